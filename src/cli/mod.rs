@@ -1,0 +1,30 @@
+//! The command line: one file per subcommand.
+
+mod solve;
+
+use clap::{Parser, Subcommand};
+
+pub use solve::{run_solve, SolveArgs};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "radiosity",
+    version,
+    about = "Progressive refinement radiosity on the GPU (OpenGL 3.0, GLSL 1.30)"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Solve a scene and write image.png, image.exr, lightmap.exr and stats.json.
+    Solve(SolveArgs),
+}
+
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Solve(args) => run_solve(&args).map(|_| ()),
+    }
+}

@@ -1,0 +1,304 @@
+//! `radiosity solve [SCENE.obj]`: scene → patches → GPU solver → display → files.
+
+use crate::display::{self, output};
+use crate::gl::{BackendChoice, GlContext, GlInfo};
+use crate::patches::{PatchLayout, Resolution};
+use crate::scene::{load_obj, Camera};
+use crate::solver::{GpuSolver, ShotRecord, SolveOptions};
+use anyhow::{bail, Context, Result};
+use glam::Vec3;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+/// The bundled default scene.
+pub const DEFAULT_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cornell/cornell.obj");
+/// Patches when neither --patches nor --patch-size nor the scene says otherwise.
+pub const DEFAULT_PATCHES: u32 = 4096;
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct SolveArgs {
+    /// OBJ scene (with its MTL); default: the bundled Cornell box.
+    pub scene: Option<PathBuf>,
+    /// Output directory; default: out/<scene name>/.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// OpenGL backend: auto tries EGL, then OSMesa.
+    #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
+    pub backend: BackendChoice,
+    /// Solver (the CPU solver is not built yet).
+    #[arg(long, value_enum, default_value_t = SolverKind::Gpu)]
+    pub solver: SolverKind,
+    /// Stop when unshot power / emitted power ≤ this.
+    #[arg(long, default_value_t = 0.01)]
+    pub threshold: f32,
+    /// Stop after this many shots at most.
+    #[arg(long, default_value_t = 10_000)]
+    pub max_shots: u32,
+    /// Aim at about this many patches (default 4096 unless the scene sets a patch size).
+    #[arg(long, conflicts_with = "patch_size")]
+    pub patches: Option<u32>,
+    /// Patch side in scene units.
+    #[arg(long)]
+    pub patch_size: Option<f32>,
+    /// Item-buffer resolution (pixels per side) of the visibility pass.
+    #[arg(long, default_value_t = 512)]
+    pub hemi_res: u32,
+    /// Longest edge of the visibility pass's triangles, in patch sizes (0: whole polygons, as
+    /// in the paper).
+    #[arg(long, default_value_t = 2.0)]
+    pub tessellate: f32,
+    /// Side, in patches, of the cells a polygon shoots from (0: the whole polygon from its
+    /// centroid, as in the paper).
+    #[arg(long, default_value_t = 8)]
+    pub shooter_cell: u32,
+    /// Camera position, X,Y,Z (default: the scene's camera).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub eye: Option<Vec3>,
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub target: Option<Vec3>,
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub up: Option<Vec3>,
+    /// Vertical field of view, degrees.
+    #[arg(long)]
+    pub fov: Option<f32>,
+    /// Image size, WxH.
+    #[arg(long, value_parser = parse_size, default_value = "512x512")]
+    pub size: (u32, u32),
+    /// Multiplier applied to radiance before tone mapping image.png.
+    #[arg(long, default_value_t = 1.0)]
+    pub exposure: f32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SolverKind {
+    Gpu,
+}
+
+fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<f32>()
+                .map_err(|_| format!("'{t}' is not a number"))
+        })
+        .collect::<Result<_, _>>()?;
+    match v[..] {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(x, y, z)),
+        _ => Err(format!(
+            "expected X,Y,Z with three finite numbers, got '{s}'"
+        )),
+    }
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WxH, got '{s}'"))?;
+    let w: u32 = w.parse().map_err(|_| format!("bad width in '{s}'"))?;
+    let h: u32 = h.parse().map_err(|_| format!("bad height in '{s}'"))?;
+    if w == 0 || h == 0 || w > 16384 || h > 16384 {
+        return Err(format!(
+            "image size '{s}' must be between 1x1 and 16384x16384"
+        ));
+    }
+    Ok((w, h))
+}
+
+/// Everything `stats.json` holds (the contract in CONVENTIONS.md, plus timings and settings).
+#[derive(serde::Serialize)]
+pub struct Stats {
+    pub scene: String,
+    pub faces: usize,
+    pub vertices: usize,
+    pub lights: usize,
+    pub patches: u64,
+    pub patch_size: f32,
+    pub atlas: [u32; 2],
+    pub solver: SolverKind,
+    pub shooter_cell: u32,
+    pub backend: &'static str,
+    pub gl_vendor: String,
+    pub gl_renderer: String,
+    pub gl_version: String,
+    pub threshold: f32,
+    pub max_shots: u32,
+    pub hemi_res: u32,
+    pub tessellate: f32,
+    pub shots: u32,
+    pub solve_seconds: f64,
+    pub unshot_fraction: f64,
+    pub emitted_power: f64,
+    pub pass_seconds: crate::solver::progressive::PassTimes,
+    pub history: Vec<ShotRecord>,
+}
+
+pub struct SolveOutcome {
+    pub stats: Stats,
+    pub out_dir: PathBuf,
+}
+
+pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
+    if !(args.threshold > 0.0 && args.threshold < 1.0) {
+        bail!(
+            "--threshold {} must be between 0 and 1 (exclusive)",
+            args.threshold
+        );
+    }
+    if let Some(s) = args.patch_size {
+        if !(s > 0.0 && s.is_finite()) {
+            bail!("--patch-size {s} must be a positive number of scene units");
+        }
+    }
+    if args.patches == Some(0) {
+        bail!("--patches must be at least 1");
+    }
+    let scene_path = args
+        .scene
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(DEFAULT_SCENE));
+    let scene = load_obj(&scene_path)?;
+    let out_dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| Path::new("out").join(&scene.name));
+    std::fs::create_dir_all(&out_dir)
+        .with_context(|| format!("cannot create the output directory {}", out_dir.display()))?;
+
+    let resolution = match (args.patch_size, args.patches, scene.patch_size) {
+        (Some(s), _, _) => Resolution::PatchSize(s),
+        (None, Some(n), _) => Resolution::Patches(n),
+        (None, None, Some(s)) => Resolution::PatchSize(s),
+        (None, None, None) => Resolution::Patches(DEFAULT_PATCHES),
+    };
+    let layout = PatchLayout::new(&scene, resolution);
+    let ctx = GlContext::headless(args.backend)?;
+    let info: &GlInfo = &ctx.info;
+    eprintln!(
+        "backend {}: {} | {} | {}",
+        info.backend.name(),
+        info.vendor,
+        info.renderer,
+        info.version
+    );
+    eprintln!(
+        "scene {}: {} faces, {} vertices, {} lights, {} patches (patch size {:.4}, atlas {}x{})",
+        scene.name,
+        scene.polygons.len(),
+        scene.vertex_count,
+        scene.light_count(),
+        layout.patch_count(),
+        layout.patch_size,
+        layout.atlas_width,
+        layout.atlas_height
+    );
+
+    let options = SolveOptions {
+        threshold: args.threshold,
+        max_shots: args.max_shots,
+        hemi_res: args.hemi_res,
+        tessellation: args.tessellate,
+        shooter_cell: args.shooter_cell,
+    };
+    let mut solver = GpuSolver::new(&ctx, &scene, &layout, options)?;
+    let bar = progress_bar(args.threshold);
+    solver.solve(|r| {
+        bar.set_position(progress_position(r.unshot_fraction, args.threshold));
+        bar.set_message(format!("shot {} unshot {:.4}", r.shot, r.unshot_fraction));
+    })?;
+    bar.finish_and_clear();
+    let solve_seconds = solver.history.last().map(|r| r.seconds).unwrap_or(0.0);
+    eprintln!(
+        "solved: {} shots, unshot fraction {:.5}, {:.3} s",
+        solver.shots(),
+        solver.unshot_fraction(),
+        solve_seconds
+    );
+
+    let mut atlas = solver.radiosity_atlas();
+    let camera = camera_from(args, scene.camera_or_default());
+    let raw_atlas = atlas.clone();
+    layout.dilate(&mut atlas);
+    let image = display::render(
+        &ctx,
+        &scene,
+        solver.mesh(),
+        &atlas,
+        (layout.atlas_width, layout.atlas_height),
+        &camera,
+        args.size,
+    )?;
+
+    output::write_exr(
+        &out_dir.join("image.exr"),
+        image.width,
+        image.height,
+        &image.rgb,
+    )?;
+    output::write_png(&out_dir.join("image.png"), &image, args.exposure)?;
+    output::write_atlas_exr(
+        &out_dir.join("lightmap.exr"),
+        layout.atlas_width,
+        layout.atlas_height,
+        &raw_atlas,
+    )?;
+    let stats = Stats {
+        scene: scene_path.display().to_string(),
+        faces: scene.polygons.len(),
+        vertices: scene.vertex_count,
+        lights: scene.light_count(),
+        patches: solver.gpu_patches.iter().map(|&n| n as u64).sum(),
+        patch_size: layout.patch_size,
+        atlas: [layout.atlas_width, layout.atlas_height],
+        solver: args.solver,
+        shooter_cell: args.shooter_cell,
+        backend: info.backend.name(),
+        gl_vendor: info.vendor.clone(),
+        gl_renderer: info.renderer.clone(),
+        gl_version: info.version.clone(),
+        threshold: args.threshold,
+        max_shots: args.max_shots,
+        hemi_res: args.hemi_res,
+        tessellate: args.tessellate,
+        shots: solver.shots(),
+        solve_seconds,
+        unshot_fraction: solver.unshot_fraction(),
+        emitted_power: solver.emitted_power(),
+        pass_seconds: solver.times.clone(),
+        history: solver.history.clone(),
+    };
+    output::write_json(&out_dir.join("stats.json"), &stats)?;
+    eprintln!("wrote {}", out_dir.display());
+    Ok(SolveOutcome { stats, out_dir })
+}
+
+fn camera_from(args: &SolveArgs, base: Camera) -> Camera {
+    Camera {
+        eye: args.eye.unwrap_or(base.eye),
+        target: args.target.unwrap_or(base.target),
+        up: args.up.unwrap_or(base.up),
+        fov_y: args.fov.unwrap_or(base.fov_y),
+    }
+}
+
+const BAR_STEPS: u64 = 1000;
+
+/// Progress on a log scale: from unshot fraction 1 (start) to the threshold (done).
+fn progress_position(fraction: f64, threshold: f32) -> u64 {
+    let p = fraction.max(1e-30).ln() / (threshold as f64).ln();
+    (p.clamp(0.0, 1.0) * BAR_STEPS as f64) as u64
+}
+
+fn progress_bar(_threshold: f32) -> indicatif::ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(BAR_STEPS);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {msg}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar
+}

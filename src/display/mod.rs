@@ -1,0 +1,18 @@
+//! Display (paper 3.2.2, end of step 5): the whole scene drawn from a camera with the packed
+//! lightmap atlas, and the result written as images.
+
+pub mod output;
+mod render;
+
+pub use render::{render, Image};
+
+use crate::scene::Camera;
+use glam::Mat4;
+
+/// View-projection of a standard right-handed look-at camera (world +x appears on the left when
+/// looking down +z, as CONVENTIONS.md says of the Cornell box).
+pub fn view_projection(camera: &Camera, aspect: f32, near: f32, far: f32) -> Mat4 {
+    let view = Mat4::look_at_rh(camera.eye, camera.target, camera.up);
+    let projection = Mat4::perspective_rh_gl(camera.fov_y.to_radians(), aspect, near, far);
+    projection * view
+}

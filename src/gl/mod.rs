@@ -1,0 +1,17 @@
+//! The OpenGL layer: contexts (headless EGL and OSMesa), small owning wrappers for GL objects,
+//! shader programs and named error checks. No raw GL id leaves this module tree.
+
+pub mod check;
+pub mod context;
+mod egl;
+pub mod objects;
+mod osmesa;
+pub mod program;
+
+pub use check::GlError;
+pub use context::{BackendChoice, BackendKind, GlContext, GlInfo};
+pub use objects::{Framebuffer, Mesh, Renderbuffer, Texture, TextureFormat};
+pub use program::Program;
+
+/// The GL handle every wrapper shares; it lives as long as the last object made with it.
+pub type Gl = std::rc::Rc<glow::Context>;

@@ -1,0 +1,378 @@
+//! Owning wrappers for the GL objects the passes use. Each owns its id and deletes it in `Drop`.
+
+use super::check::{framebuffer_status_name, GlError};
+use super::Gl;
+use glow::HasContext;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TextureFormat {
+    /// Energy and radiance: 32-bit float per channel (the paper's RGBA8 cannot hold energy).
+    Rgba32F,
+    /// The item buffer: polygon IDs as 8-bit colours, exactly as in the paper.
+    Rgba8,
+}
+
+impl TextureFormat {
+    fn internal(self) -> u32 {
+        match self {
+            TextureFormat::Rgba32F => glow::RGBA32F,
+            TextureFormat::Rgba8 => glow::RGBA8,
+        }
+    }
+    fn pixel_type(self) -> u32 {
+        match self {
+            TextureFormat::Rgba32F => glow::FLOAT,
+            TextureFormat::Rgba8 => glow::UNSIGNED_BYTE,
+        }
+    }
+}
+
+pub struct Texture {
+    gl: Gl,
+    pub raw: glow::Texture,
+    pub width: i32,
+    pub height: i32,
+    pub format: TextureFormat,
+}
+
+impl Texture {
+    /// A 2D texture, zero-filled, with the given filter for both minification and magnification.
+    pub fn new(
+        gl: &Gl,
+        width: i32,
+        height: i32,
+        format: TextureFormat,
+        filter: u32,
+    ) -> Result<Texture, GlError> {
+        unsafe {
+            let raw = gl.create_texture().map_err(GlError::Limit)?;
+            gl.bind_texture(glow::TEXTURE_2D, Some(raw));
+            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, filter as i32);
+            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAG_FILTER, filter as i32);
+            gl.tex_parameter_i32(
+                glow::TEXTURE_2D,
+                glow::TEXTURE_WRAP_S,
+                glow::CLAMP_TO_EDGE as i32,
+            );
+            gl.tex_parameter_i32(
+                glow::TEXTURE_2D,
+                glow::TEXTURE_WRAP_T,
+                glow::CLAMP_TO_EDGE as i32,
+            );
+            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAX_LEVEL, 0);
+            let zeros = vec![0u8; width as usize * height as usize * 16];
+            gl.tex_image_2d(
+                glow::TEXTURE_2D,
+                0,
+                format.internal() as i32,
+                width,
+                height,
+                0,
+                glow::RGBA,
+                format.pixel_type(),
+                glow::PixelUnpackData::Slice(Some(&zeros[..Self::bytes(width, height, format)])),
+            );
+            gl.bind_texture(glow::TEXTURE_2D, None);
+            Ok(Texture {
+                gl: gl.clone(),
+                raw,
+                width,
+                height,
+                format,
+            })
+        }
+    }
+
+    fn bytes(width: i32, height: i32, format: TextureFormat) -> usize {
+        let texel = if format == TextureFormat::Rgba32F {
+            16
+        } else {
+            4
+        };
+        width as usize * height as usize * texel
+    }
+
+    /// Replace the whole image with RGBA float data (rows bottom to top, as GL stores them).
+    pub fn upload_f32(&self, rgba: &[f32]) {
+        assert_eq!(self.format, TextureFormat::Rgba32F);
+        assert_eq!(rgba.len(), self.width as usize * self.height as usize * 4);
+        unsafe {
+            self.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gl.tex_sub_image_2d(
+                glow::TEXTURE_2D,
+                0,
+                0,
+                0,
+                self.width,
+                self.height,
+                glow::RGBA,
+                glow::FLOAT,
+                glow::PixelUnpackData::Slice(Some(as_bytes(rgba))),
+            );
+            self.gl.bind_texture(glow::TEXTURE_2D, None);
+        }
+    }
+
+    /// Read the whole image back as RGBA floats (rows bottom to top).
+    pub fn read_f32(&self, out: &mut Vec<f32>) {
+        out.resize(self.width as usize * self.height as usize * 4, 0.0);
+        unsafe {
+            self.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gl.get_tex_image(
+                glow::TEXTURE_2D,
+                0,
+                glow::RGBA,
+                glow::FLOAT,
+                glow::PixelPackData::Slice(Some(as_bytes_mut(out))),
+            );
+            self.gl.bind_texture(glow::TEXTURE_2D, None);
+        }
+    }
+
+    /// Read the whole image back as RGBA bytes (rows bottom to top).
+    pub fn read_u8(&self) -> Vec<u8> {
+        let mut out = vec![0u8; self.width as usize * self.height as usize * 4];
+        unsafe {
+            self.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gl.get_tex_image(
+                glow::TEXTURE_2D,
+                0,
+                glow::RGBA,
+                glow::UNSIGNED_BYTE,
+                glow::PixelPackData::Slice(Some(&mut out)),
+            );
+            self.gl.bind_texture(glow::TEXTURE_2D, None);
+        }
+        out
+    }
+
+    pub fn bind(&self, unit: u32) {
+        unsafe {
+            self.gl.active_texture(glow::TEXTURE0 + unit);
+            self.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+        }
+    }
+}
+
+impl Drop for Texture {
+    fn drop(&mut self) {
+        unsafe { self.gl.delete_texture(self.raw) }
+    }
+}
+
+pub struct Renderbuffer {
+    gl: Gl,
+    raw: glow::Renderbuffer,
+    pub width: i32,
+    pub height: i32,
+}
+
+impl Renderbuffer {
+    pub fn new(gl: &Gl, internal_format: u32, width: i32, height: i32) -> Result<Self, GlError> {
+        unsafe {
+            let raw = gl.create_renderbuffer().map_err(GlError::Limit)?;
+            gl.bind_renderbuffer(glow::RENDERBUFFER, Some(raw));
+            gl.renderbuffer_storage(glow::RENDERBUFFER, internal_format, width, height);
+            gl.bind_renderbuffer(glow::RENDERBUFFER, None);
+            Ok(Renderbuffer {
+                gl: gl.clone(),
+                raw,
+                width,
+                height,
+            })
+        }
+    }
+}
+
+impl Drop for Renderbuffer {
+    fn drop(&mut self) {
+        unsafe { self.gl.delete_renderbuffer(self.raw) }
+    }
+}
+
+pub struct Framebuffer {
+    gl: Gl,
+    raw: glow::Framebuffer,
+}
+
+impl Framebuffer {
+    pub fn new(gl: &Gl) -> Result<Self, GlError> {
+        let raw = unsafe { gl.create_framebuffer() }.map_err(GlError::Limit)?;
+        Ok(Framebuffer {
+            gl: gl.clone(),
+            raw,
+        })
+    }
+
+    /// Bind for drawing and reading.
+    pub fn bind(&self) {
+        unsafe { self.gl.bind_framebuffer(glow::FRAMEBUFFER, Some(self.raw)) }
+    }
+
+    pub fn attach_texture(&self, attachment: u32, texture: &Texture) {
+        self.bind();
+        unsafe {
+            self.gl.framebuffer_texture_2d(
+                glow::FRAMEBUFFER,
+                attachment,
+                glow::TEXTURE_2D,
+                Some(texture.raw),
+                0,
+            );
+        }
+    }
+
+    pub fn attach_renderbuffer(&self, attachment: u32, rb: &Renderbuffer) {
+        self.bind();
+        unsafe {
+            self.gl.framebuffer_renderbuffer(
+                glow::FRAMEBUFFER,
+                attachment,
+                glow::RENDERBUFFER,
+                Some(rb.raw),
+            );
+        }
+    }
+
+    /// Check completeness once after attaching; the error names the pass.
+    pub fn check_complete(&self, pass: &str) -> Result<(), GlError> {
+        self.bind();
+        let status = unsafe { self.gl.check_framebuffer_status(glow::FRAMEBUFFER) };
+        if status == glow::FRAMEBUFFER_COMPLETE {
+            Ok(())
+        } else {
+            Err(GlError::Framebuffer {
+                pass: pass.into(),
+                status: framebuffer_status_name(status),
+            })
+        }
+    }
+
+    /// Read an RGBA float attachment of the bound framebuffer (rows bottom to top).
+    pub fn read_f32(&self, attachment: u32, width: i32, height: i32, out: &mut Vec<f32>) {
+        out.resize(width as usize * height as usize * 4, 0.0);
+        self.bind();
+        unsafe {
+            self.gl.read_buffer(attachment);
+            self.gl.read_pixels(
+                0,
+                0,
+                width,
+                height,
+                glow::RGBA,
+                glow::FLOAT,
+                glow::PixelPackData::Slice(Some(as_bytes_mut(out))),
+            );
+        }
+    }
+
+    /// The paper's accumulation step: `glCopyTexSubImage2D` from one colour attachment of this
+    /// framebuffer into a texture of the same size.
+    pub fn copy_to_texture(&self, attachment: u32, texture: &Texture) {
+        self.bind();
+        unsafe {
+            self.gl.read_buffer(attachment);
+            self.gl.bind_texture(glow::TEXTURE_2D, Some(texture.raw));
+            self.gl.copy_tex_sub_image_2d(
+                glow::TEXTURE_2D,
+                0,
+                0,
+                0,
+                0,
+                0,
+                texture.width,
+                texture.height,
+            );
+            self.gl.bind_texture(glow::TEXTURE_2D, None);
+        }
+    }
+}
+
+impl Drop for Framebuffer {
+    fn drop(&mut self) {
+        unsafe { self.gl.delete_framebuffer(self.raw) }
+    }
+}
+
+/// One vertex attribute of an interleaved float buffer.
+pub struct Attribute {
+    pub location: u32,
+    pub size: i32,
+    /// Offset in floats from the start of the vertex.
+    pub offset: i32,
+}
+
+/// An interleaved float vertex buffer with its vertex array object; drawn as triangles.
+pub struct Mesh {
+    gl: Gl,
+    vao: glow::VertexArray,
+    vbo: glow::Buffer,
+    pub vertex_count: i32,
+}
+
+impl Mesh {
+    pub fn new(
+        gl: &Gl,
+        data: &[f32],
+        floats_per_vertex: i32,
+        attributes: &[Attribute],
+    ) -> Result<Self, GlError> {
+        unsafe {
+            let vao = gl.create_vertex_array().map_err(GlError::Limit)?;
+            let vbo = gl.create_buffer().map_err(GlError::Limit)?;
+            gl.bind_vertex_array(Some(vao));
+            gl.bind_buffer(glow::ARRAY_BUFFER, Some(vbo));
+            gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, as_bytes(data), glow::STATIC_DRAW);
+            for a in attributes {
+                gl.enable_vertex_attrib_array(a.location);
+                gl.vertex_attrib_pointer_f32(
+                    a.location,
+                    a.size,
+                    glow::FLOAT,
+                    false,
+                    floats_per_vertex * 4,
+                    a.offset * 4,
+                );
+            }
+            gl.bind_vertex_array(None);
+            gl.bind_buffer(glow::ARRAY_BUFFER, None);
+            let vertex_count = data.len() as i32 / floats_per_vertex;
+            Ok(Mesh {
+                gl: gl.clone(),
+                vao,
+                vbo,
+                vertex_count,
+            })
+        }
+    }
+
+    pub fn draw(&self) {
+        self.draw_range(0, self.vertex_count);
+    }
+
+    pub fn draw_range(&self, first: i32, count: i32) {
+        unsafe {
+            self.gl.bind_vertex_array(Some(self.vao));
+            self.gl.draw_arrays(glow::TRIANGLES, first, count);
+            self.gl.bind_vertex_array(None);
+        }
+    }
+}
+
+impl Drop for Mesh {
+    fn drop(&mut self) {
+        unsafe {
+            self.gl.delete_vertex_array(self.vao);
+            self.gl.delete_buffer(self.vbo);
+        }
+    }
+}
+
+fn as_bytes(v: &[f32]) -> &[u8] {
+    // f32 has no padding and any bit pattern is a valid u8 sequence.
+    unsafe { std::slice::from_raw_parts(v.as_ptr().cast(), std::mem::size_of_val(v)) }
+}
+
+fn as_bytes_mut(v: &mut [f32]) -> &mut [u8] {
+    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast(), std::mem::size_of_val(v)) }
+}

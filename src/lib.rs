@@ -1,0 +1,15 @@
+//! gpu-radiosity: progressive refinement radiosity computed on the GPU through OpenGL 3.0
+//! (compatibility profile) and GLSL 1.30, after Yu Ping, *Research and application on radiosity
+//! illumination based on GPU hardware acceleration*.
+//!
+//! The pipeline, one module per stage: [`scene`] (OBJ + MTL) → [`patches`] (lightmaps and the
+//! atlas) → [`solver`] (Find_Max_Energy, visibility pass, reconstruction pass) → [`display`]
+//! (the lit scene from a camera, images). [`gl`] holds the contexts and GL object wrappers;
+//! [`cli`] the command line.
+
+pub mod cli;
+pub mod display;
+pub mod gl;
+pub mod patches;
+pub mod scene;
+pub mod solver;

@@ -1,0 +1,266 @@
+//! Patches: every polygon owns a rectangular lightmap whose texels are its patches (section 3.1's
+//! "small patches"), and all lightmaps are packed into one atlas texture (section 3.2, step 5).
+//!
+//! A polygon's lightmap covers the polygon's bounding rectangle in its own plane, in the
+//! orientation (one of its edges) that makes that rectangle smallest, so that a rectangle's
+//! lightmap is exactly the rectangle. A texel is a patch when its centre lies inside the polygon
+//! (the rasterizer's rule, so the GPU draws exactly these texels).
+//!
+//! ```text
+//!   atlas (texels)                 one lightmap with its 1-texel gutter
+//!   +-----+--------+---+           g g g g g g
+//!   | L0  |   L1   |L2 |           g p p p p g    p: patch texels (w x h)
+//!   +-----+---+----+---+           g p p p p g    g: gutter, filled with copies of the
+//!   |  L3     | L4 |               g g g g g g       nearest patch before display
+//!   +---------+----+
+//! ```
+
+mod atlas;
+
+use crate::scene::Scene;
+use glam::{Vec2, Vec3};
+
+/// Where one polygon's patches are and how they map to the world.
+#[derive(Clone, Debug)]
+pub struct Lightmap {
+    /// Texel rectangle of the patches inside the atlas (gutter excluded).
+    pub x: u32,
+    pub y: u32,
+    pub w: u32,
+    pub h: u32,
+    /// World position of the lightmap's corner (texel coordinate (0, 0)).
+    pub origin: Vec3,
+    /// World vectors spanning the whole lightmap along its width and height.
+    pub axis_u: Vec3,
+    pub axis_v: Vec3,
+}
+
+impl Lightmap {
+    /// World position of a point given in the lightmap's own texel coordinates.
+    pub fn world(&self, s: f32, t: f32) -> Vec3 {
+        self.origin + self.axis_u * (s / self.w as f32) + self.axis_v * (t / self.h as f32)
+    }
+
+    /// Lightmap texel coordinates (not atlas) of a world point on the polygon's plane.
+    pub fn texel_of(&self, p: Vec3) -> Vec2 {
+        let d = p - self.origin;
+        Vec2::new(
+            d.dot(self.axis_u) / self.axis_u.length_squared() * self.w as f32,
+            d.dot(self.axis_v) / self.axis_v.length_squared() * self.h as f32,
+        )
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct PatchLayout {
+    pub atlas_width: u32,
+    pub atlas_height: u32,
+    /// Patch size in scene units (the largest side a texel may have).
+    pub patch_size: f32,
+    /// One lightmap per polygon, in the scene's polygon order.
+    pub lightmaps: Vec<Lightmap>,
+    /// For every atlas texel (row 0 at the bottom, as in GL), the polygon index + 1 whose patch
+    /// it is, or 0.
+    pub owner: Vec<u32>,
+    /// Patch count per polygon.
+    pub patches_per_polygon: Vec<u32>,
+}
+
+/// How finely to cut the polygons into patches.
+#[derive(Clone, Copy, Debug)]
+pub enum Resolution {
+    /// Side of a patch in scene units.
+    PatchSize(f32),
+    /// Aim at about this many patches in all.
+    Patches(u32),
+}
+
+impl PatchLayout {
+    pub fn new(scene: &Scene, resolution: Resolution) -> PatchLayout {
+        let patch_size = match resolution {
+            Resolution::PatchSize(s) => s,
+            Resolution::Patches(n) => size_for_count(scene, n),
+        };
+        let mut lightmaps: Vec<Lightmap> = scene
+            .polygons
+            .iter()
+            .map(|p| fit_lightmap(&p.vertices, p.normal, patch_size))
+            .collect();
+        let sizes: Vec<(u32, u32)> = lightmaps.iter().map(|l| (l.w + 2, l.h + 2)).collect();
+        let packed = atlas::pack(&sizes);
+        for (l, &(x, y)) in lightmaps.iter_mut().zip(&packed.positions) {
+            l.x = x + 1;
+            l.y = y + 1;
+        }
+        let mut layout = PatchLayout {
+            atlas_width: packed.width,
+            atlas_height: packed.height,
+            patch_size,
+            lightmaps,
+            owner: vec![0; packed.width as usize * packed.height as usize],
+            patches_per_polygon: vec![0; scene.polygons.len()],
+        };
+        for (i, polygon) in scene.polygons.iter().enumerate() {
+            let lm = layout.lightmaps[i].clone();
+            let outline: Vec<Vec2> = polygon.vertices.iter().map(|&v| lm.texel_of(v)).collect();
+            for t in 0..lm.h {
+                for s in 0..lm.w {
+                    if inside(&outline, Vec2::new(s as f32 + 0.5, t as f32 + 0.5)) {
+                        let at =
+                            (lm.y + t) as usize * layout.atlas_width as usize + (lm.x + s) as usize;
+                        layout.owner[at] = i as u32 + 1;
+                        layout.patches_per_polygon[i] += 1;
+                    }
+                }
+            }
+        }
+        layout
+    }
+
+    pub fn patch_count(&self) -> u64 {
+        self.patches_per_polygon.iter().map(|&n| n as u64).sum()
+    }
+
+    /// Lightmap coordinates of a polygon's vertex, normalised to the atlas ([0,1]²).
+    pub fn atlas_uv(&self, polygon: usize, p: Vec3) -> Vec2 {
+        let lm = &self.lightmaps[polygon];
+        let t = lm.texel_of(p);
+        Vec2::new(
+            (lm.x as f32 + t.x) / self.atlas_width as f32,
+            (lm.y as f32 + t.y) / self.atlas_height as f32,
+        )
+    }
+
+    /// Fill every texel that is not a patch, inside a lightmap and its gutter, with the mean of
+    /// neighbouring patch texels of the same polygon, so that bilinear filtering at display time
+    /// never mixes in black or another polygon's light.
+    pub fn dilate(&self, rgba: &mut [f32]) {
+        let w = self.atlas_width as i64;
+        let mut filled: Vec<u32> = self.owner.clone();
+        for (index, lm) in self.lightmaps.iter().enumerate() {
+            let id = index as u32 + 1;
+            // Three rounds fill the gutter and texels up to two texels from a patch centre.
+            for _ in 0..3 {
+                let mut writes = Vec::new();
+                for y in lm.y as i64 - 1..=(lm.y + lm.h) as i64 {
+                    for x in lm.x as i64 - 1..=(lm.x + lm.w) as i64 {
+                        let at = (y * w + x) as usize;
+                        if filled[at] == id {
+                            continue;
+                        }
+                        let mut sum = [0f32; 4];
+                        let mut n = 0.0;
+                        for (dx, dy) in [
+                            (-1, 0),
+                            (1, 0),
+                            (0, -1),
+                            (0, 1),
+                            (-1, -1),
+                            (1, -1),
+                            (-1, 1),
+                            (1, 1),
+                        ] {
+                            let (nx, ny) = (x + dx, y + dy);
+                            if nx < 0 || ny < 0 || nx >= w || ny >= self.atlas_height as i64 {
+                                continue;
+                            }
+                            let nat = (ny * w + nx) as usize;
+                            if filled[nat] == id {
+                                for c in 0..4 {
+                                    sum[c] += rgba[nat * 4 + c];
+                                }
+                                n += 1.0;
+                            }
+                        }
+                        if n > 0.0 {
+                            writes.push((at, sum.map(|v| v / n)));
+                        }
+                    }
+                }
+                for (at, v) in writes {
+                    rgba[at * 4..at * 4 + 4].copy_from_slice(&v);
+                    filled[at] = id;
+                }
+            }
+        }
+    }
+}
+
+/// The bounding rectangle of a planar polygon in its own plane, oriented along whichever edge
+/// gives the smallest rectangle, cut into texels no larger than `patch_size`.
+fn fit_lightmap(vertices: &[Vec3], normal: Vec3, patch_size: f32) -> Lightmap {
+    let n = vertices.len();
+    let mut best: Option<(f32, Vec3, Vec3, Vec2, Vec2)> = None;
+    for i in 0..n {
+        let edge = vertices[(i + 1) % n] - vertices[i];
+        let u = (edge - normal * edge.dot(normal)).normalize_or_zero();
+        if u == Vec3::ZERO {
+            continue;
+        }
+        let v = normal.cross(u);
+        let (mut lo, mut hi) = (Vec2::splat(f32::MAX), Vec2::splat(f32::MIN));
+        for &p in vertices {
+            let q = Vec2::new(p.dot(u), p.dot(v));
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+        let area = (hi - lo).x * (hi - lo).y;
+        if best.as_ref().is_none_or(|b| area < b.0 * 0.999) {
+            best = Some((area, u, v, lo, hi));
+        }
+    }
+    let (_, u, v, lo, hi) = best.expect("polygons with area have a non-degenerate edge");
+    let plane = normal * vertices[0].dot(normal);
+    let size = hi - lo;
+    let w = ((size.x / patch_size).ceil() as u32).max(1);
+    let h = ((size.y / patch_size).ceil() as u32).max(1);
+    Lightmap {
+        x: 0,
+        y: 0,
+        w,
+        h,
+        origin: plane + u * lo.x + v * lo.y,
+        axis_u: u * size.x,
+        axis_v: v * size.y,
+    }
+}
+
+/// Even-odd point-in-polygon test in the lightmap plane.
+pub fn inside(outline: &[Vec2], p: Vec2) -> bool {
+    let mut inside = false;
+    let n = outline.len();
+    for i in 0..n {
+        let (a, b) = (outline[i], outline[(i + 1) % n]);
+        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+/// The patch size that gives about `target` patches: start from area / target and refine.
+fn size_for_count(scene: &Scene, target: u32) -> f32 {
+    let count = |s: f32| -> u64 {
+        scene
+            .polygons
+            .iter()
+            .map(|p| {
+                let lm = fit_lightmap(&p.vertices, p.normal, s);
+                lm.w as u64 * lm.h as u64
+            })
+            .sum()
+    };
+    let target = target.max(1) as u64;
+    let mut size = (scene.total_area() / target as f32).sqrt();
+    // Bisection on the (monotone) lightmap texel count; patches are a little fewer than texels.
+    let (mut small, mut large) = (size * 0.25, size * 4.0);
+    for _ in 0..40 {
+        size = 0.5 * (small + large);
+        if count(size) > target {
+            small = size;
+        } else {
+            large = size;
+        }
+    }
+    large
+}

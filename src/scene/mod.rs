@@ -1,0 +1,153 @@
+//! The scene: planar polygons (the paper's faces, each of which gets its own lightmap), their
+//! Lambertian materials (`Kd` reflectance, `Ke` emitted radiance) and an optional camera.
+
+mod obj;
+mod triangulate;
+
+pub use obj::{load_obj, SceneError};
+pub use triangulate::triangulate;
+
+use glam::Vec3;
+
+#[derive(Clone, Debug)]
+pub struct Material {
+    pub name: String,
+    /// Diffuse reflectance (albedo), linear RGB in [0, 1].
+    pub kd: Vec3,
+    /// Emitted radiance, one-sided, linear RGB (the units of every output value).
+    pub ke: Vec3,
+}
+
+impl Material {
+    pub fn is_emitter(&self) -> bool {
+        self.ke.max_element() > 0.0
+    }
+}
+
+/// A planar polygon, vertices counter-clockwise seen from its front.
+#[derive(Clone, Debug)]
+pub struct Polygon {
+    pub vertices: Vec<Vec3>,
+    pub normal: Vec3,
+    pub area: f32,
+    pub centroid: Vec3,
+    pub material: usize,
+    /// The OBJ object (or group) the face came from, for messages.
+    pub object: String,
+}
+
+impl Polygon {
+    /// Normal (Newell's method, robust for slightly non-planar polygons), area and area centroid.
+    /// `None` for a degenerate (zero-area) polygon.
+    pub fn new(vertices: Vec<Vec3>, material: usize, object: String) -> Option<Polygon> {
+        let n = vertices.len();
+        let mut newell = Vec3::ZERO;
+        for i in 0..n {
+            let (a, b) = (vertices[i], vertices[(i + 1) % n]);
+            newell += a.cross(b);
+        }
+        let area = 0.5 * newell.length();
+        let extent = bounds(&vertices)
+            .map(|(lo, hi)| (hi - lo).length())
+            .unwrap_or(0.0);
+        if !area.is_finite() || area <= 1e-9 * extent * extent {
+            return None;
+        }
+        let normal = newell / (2.0 * area);
+        // Area-weighted centroid of the fan triangles (the point a paper-mode shooter shoots from).
+        let mut centroid = Vec3::ZERO;
+        let mut total = 0.0;
+        for i in 1..n - 1 {
+            let (a, b, c) = (vertices[0], vertices[i], vertices[i + 1]);
+            let w = 0.5 * (b - a).cross(c - a).dot(normal);
+            centroid += w * (a + b + c) / 3.0;
+            total += w;
+        }
+        let centroid = if total.abs() > 0.0 {
+            centroid / total
+        } else {
+            vertices.iter().sum::<Vec3>() / n as f32
+        };
+        Some(Polygon {
+            vertices,
+            normal,
+            area,
+            centroid,
+            material,
+            object,
+        })
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    /// Vertical field of view in degrees.
+    pub fov_y: f32,
+}
+
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub name: String,
+    pub polygons: Vec<Polygon>,
+    pub materials: Vec<Material>,
+    /// Vertices as counted in the file (`v` lines): what Table 1 calls vertices.
+    pub vertex_count: usize,
+    pub camera: Option<Camera>,
+    /// Default patch size in scene units, from a `# patch-size S` line in the OBJ.
+    pub patch_size: Option<f32>,
+    /// Polygons dropped while loading because they had (near) zero area.
+    pub skipped_degenerate: usize,
+}
+
+impl Scene {
+    pub fn material(&self, polygon: &Polygon) -> &Material {
+        &self.materials[polygon.material]
+    }
+
+    pub fn light_count(&self) -> usize {
+        self.polygons
+            .iter()
+            .filter(|p| self.material(p).is_emitter())
+            .count()
+    }
+
+    pub fn total_area(&self) -> f32 {
+        self.polygons.iter().map(|p| p.area).sum()
+    }
+
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let all: Vec<Vec3> = self
+            .polygons
+            .iter()
+            .flat_map(|p| p.vertices.iter().copied())
+            .collect();
+        bounds(&all).unwrap_or((Vec3::ZERO, Vec3::ONE))
+    }
+
+    /// The scene's own camera, or a view of its bounding box from the -z side.
+    pub fn camera_or_default(&self) -> Camera {
+        self.camera.unwrap_or_else(|| {
+            let (lo, hi) = self.bounds();
+            let centre = 0.5 * (lo + hi);
+            let size = (hi - lo).length();
+            Camera {
+                eye: centre - Vec3::Z * 1.5 * size,
+                target: centre,
+                up: Vec3::Y,
+                fov_y: 40.0,
+            }
+        })
+    }
+}
+
+pub fn bounds(points: &[Vec3]) -> Option<(Vec3, Vec3)> {
+    let first = *points.first()?;
+    Some(
+        points
+            .iter()
+            .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p))),
+    )
+}

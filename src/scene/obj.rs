@@ -1,0 +1,279 @@
+//! Wavefront OBJ + MTL loading through `tobj`, keeping polygons as polygons (no triangulation:
+//! a quad is one face with one lightmap, as in the paper). Two comment lines are understood:
+//! `# camera eye X Y Z target X Y Z up X Y Z fov DEG` and `# patch-size S`.
+
+use super::{Camera, Material, Polygon, Scene};
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("cannot read scene file {path}")]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path}{line}: {what}")]
+    Parse {
+        path: PathBuf,
+        line: String,
+        what: String,
+    },
+    #[error("{path}: object '{object}' has a vertex that is not a finite number ({vertex})")]
+    NotFinite {
+        path: PathBuf,
+        object: String,
+        vertex: String,
+    },
+    #[error(
+        "{path}: the scene has no emitter: no material has a positive Ke (materials: {materials}). \
+         Give the lights a material with `Ke r g b` (emitted radiance)"
+    )]
+    NoEmitter { path: PathBuf, materials: String },
+    #[error("{path}: the scene has no polygons with a non-zero area")]
+    Empty { path: PathBuf },
+}
+
+pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let header = parse_comments(path, &text)?;
+
+    let options = tobj::LoadOptions {
+        triangulate: false,
+        single_index: false,
+        ..Default::default()
+    };
+    let (models, materials) = tobj::load_obj(path, &options).map_err(|e| SceneError::Parse {
+        path: path.to_path_buf(),
+        line: first_bad_line(&text, &e)
+            .map(|n| format!(":{n}"))
+            .unwrap_or_default(),
+        what: format!("malformed OBJ ({e})"),
+    })?;
+    let mut warnings = Vec::new();
+    let mut materials: Vec<Material> = match materials {
+        Ok(m) => m.into_iter().map(to_material).collect(),
+        Err(e) => {
+            warnings.push(format!(
+                "materials could not be read ({e}); every face is grey"
+            ));
+            Vec::new()
+        }
+    };
+    // Faces without a material get a neutral grey that does not emit.
+    let default_material = materials.len();
+    materials.push(Material {
+        name: "(default)".into(),
+        kd: Vec3::splat(0.5),
+        ke: Vec3::ZERO,
+    });
+
+    let mut polygons = Vec::new();
+    let mut skipped = 0;
+    for model in &models {
+        let mesh = &model.mesh;
+        let position = |i: u32| {
+            let i = i as usize * 3;
+            Vec3::new(
+                mesh.positions[i],
+                mesh.positions[i + 1],
+                mesh.positions[i + 2],
+            )
+        };
+        if let Some(bad) = mesh.positions.iter().position(|v| !v.is_finite()) {
+            let i = bad / 3 * 3;
+            return Err(SceneError::NotFinite {
+                path: path.to_path_buf(),
+                object: model.name.clone(),
+                vertex: format!("{:?}", &mesh.positions[i..i + 3]),
+            });
+        }
+        let arities: Vec<u32> = if mesh.face_arities.is_empty() {
+            vec![3; mesh.indices.len() / 3]
+        } else {
+            mesh.face_arities.clone()
+        };
+        let material = mesh
+            .material_id
+            .filter(|&m| m < default_material)
+            .unwrap_or(default_material);
+        let mut start = 0usize;
+        for arity in arities {
+            let idx = &mesh.indices[start..start + arity as usize];
+            start += arity as usize;
+            let vertices: Vec<Vec3> = idx.iter().map(|&i| position(i)).collect();
+            match Polygon::new(vertices, material, model.name.clone()) {
+                Some(p) => polygons.push(p),
+                None => skipped += 1,
+            }
+        }
+    }
+    for w in &warnings {
+        eprintln!("warning: {}: {w}", path.display());
+    }
+    if skipped > 0 {
+        eprintln!(
+            "warning: {}: skipped {skipped} polygon(s) with zero area",
+            path.display()
+        );
+    }
+    if polygons.is_empty() {
+        return Err(SceneError::Empty {
+            path: path.to_path_buf(),
+        });
+    }
+    let scene = Scene {
+        name: path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        polygons,
+        materials,
+        vertex_count: header.vertex_count,
+        camera: header.camera,
+        patch_size: header.patch_size,
+        skipped_degenerate: skipped,
+    };
+    if scene.light_count() == 0 {
+        let names: Vec<&str> = scene.materials[..default_material]
+            .iter()
+            .map(|m| m.name.as_str())
+            .collect();
+        return Err(SceneError::NoEmitter {
+            path: path.to_path_buf(),
+            materials: if names.is_empty() {
+                "none".into()
+            } else {
+                names.join(", ")
+            },
+        });
+    }
+    Ok(scene)
+}
+
+fn to_material(m: tobj::Material) -> Material {
+    let v = |c: Option<[f32; 3]>| c.map(Vec3::from).unwrap_or(Vec3::ZERO);
+    Material {
+        kd: v(m.diffuse).clamp(Vec3::ZERO, Vec3::ONE),
+        ke: v(m.emissive).max(Vec3::ZERO),
+        name: m.name,
+    }
+}
+
+struct Header {
+    vertex_count: usize,
+    camera: Option<Camera>,
+    patch_size: Option<f32>,
+}
+
+fn parse_comments(path: &Path, text: &str) -> Result<Header, SceneError> {
+    let mut header = Header {
+        vertex_count: 0,
+        camera: None,
+        patch_size: None,
+    };
+    for (n, line) in text.lines().enumerate() {
+        let line = line.trim();
+        let bad = |what: &str| SceneError::Parse {
+            path: path.to_path_buf(),
+            line: format!(":{}", n + 1),
+            what: what.to_string(),
+        };
+        if line.starts_with("v ") || line.starts_with("v\t") {
+            header.vertex_count += 1;
+        } else if let Some(rest) = line.strip_prefix("# camera") {
+            header.camera = Some(parse_camera(rest).ok_or_else(|| {
+                bad("expected `# camera eye X Y Z target X Y Z up X Y Z fov DEG`")
+            })?);
+        } else if let Some(rest) = line.strip_prefix("# patch-size") {
+            let s: f32 = rest
+                .trim()
+                .parse()
+                .map_err(|_| bad("expected `# patch-size S`"))?;
+            if !(s > 0.0 && s.is_finite()) {
+                return Err(bad("the patch size must be a positive number"));
+            }
+            header.patch_size = Some(s);
+        }
+    }
+    Ok(header)
+}
+
+fn parse_camera(rest: &str) -> Option<Camera> {
+    let tokens: Vec<&str> = rest.split_whitespace().collect();
+    let mut camera = Camera {
+        eye: Vec3::ZERO,
+        target: Vec3::Z,
+        up: Vec3::Y,
+        fov_y: 40.0,
+    };
+    let mut seen = 0;
+    let mut i = 0;
+    let num = |s: &str| s.parse::<f32>().ok().filter(|v| v.is_finite());
+    while i < tokens.len() {
+        let vec = |i: usize| -> Option<Vec3> {
+            Some(Vec3::new(
+                num(tokens.get(i + 1)?)?,
+                num(tokens.get(i + 2)?)?,
+                num(tokens.get(i + 3)?)?,
+            ))
+        };
+        match tokens[i] {
+            "eye" => camera.eye = vec(i)?,
+            "target" => camera.target = vec(i)?,
+            "up" => camera.up = vec(i)?,
+            "fov" => {
+                camera.fov_y = num(tokens.get(i + 1)?)?;
+                seen |= 8;
+                i += 2;
+                continue;
+            }
+            _ => return None,
+        }
+        seen |= match tokens[i] {
+            "eye" => 1,
+            "target" => 2,
+            _ => 4,
+        };
+        i += 4;
+    }
+    (seen & 3 == 3).then_some(camera)
+}
+
+/// tobj reports what went wrong but not where: find the first line of that kind that does not
+/// parse, so the message can name it.
+fn first_bad_line(text: &str, error: &tobj::LoadError) -> Option<usize> {
+    let positions = text
+        .lines()
+        .filter(|l| l.trim_start().starts_with("v "))
+        .count() as i64;
+    for (n, line) in text.lines().enumerate() {
+        let mut tokens = line.split_whitespace();
+        let keyword = tokens.next().unwrap_or("");
+        let bad = match (keyword, error) {
+            ("v", tobj::LoadError::PositionParseError) => {
+                let values: Vec<_> = tokens.collect();
+                values.len() < 3 || values.iter().any(|t| t.parse::<f32>().is_err())
+            }
+            ("f", tobj::LoadError::FaceParseError | tobj::LoadError::InvalidPolygon)
+            | ("f", tobj::LoadError::FaceVertexOutOfBounds) => {
+                let values: Vec<_> = tokens.collect();
+                values.len() < 3
+                    || values.iter().any(|t| {
+                        match t.split('/').next().and_then(|i| i.parse::<i64>().ok()) {
+                            Some(i) => i == 0 || i > positions || -i > positions,
+                            None => true,
+                        }
+                    })
+            }
+            _ => false,
+        };
+        if bad {
+            return Some(n + 1);
+        }
+    }
+    None
+}

@@ -1,0 +1,96 @@
+//! `Find_Max_Energy` (paper 3.2.2, step 5), on the CPU: total the unshot energy of each
+//! polygon's lightmap and pick the polygon with the most unshot power as the next shooter.
+//!
+//! The unshot atlas comes back from the GPU as RGBA floats: RGB is the unshot radiance of the
+//! patch, alpha the polygon ID + 1 (0 where a texel is not a patch). Every patch of a polygon
+//! has the same area (polygon area / patch count), so the totals are exact in power.
+
+use glam::Vec3;
+
+/// Unshot energy per polygon, summed from an unshot atlas.
+#[derive(Clone, Debug, Default)]
+pub struct EnergyTotals {
+    /// Per polygon: Σ unshot radiance × patch area, RGB (f64 so long sums stay exact enough).
+    pub energy: Vec<[f64; 3]>,
+    /// Per polygon: patches seen in the atlas.
+    pub patches: Vec<u32>,
+}
+
+impl EnergyTotals {
+    /// Sum an RGBA atlas. `patch_area[p]` is the area of one patch of polygon p, or `None` to
+    /// count patches only (the first call, before the areas are known).
+    pub fn sum(rgba: &[f32], polygon_count: usize, patch_area: Option<&[f64]>) -> EnergyTotals {
+        let mut totals = EnergyTotals {
+            energy: vec![[0.0; 3]; polygon_count],
+            patches: vec![0; polygon_count],
+        };
+        for texel in rgba.chunks_exact(4) {
+            let id = texel[3] as usize;
+            if id == 0 || id > polygon_count {
+                continue;
+            }
+            let p = id - 1;
+            totals.patches[p] += 1;
+            let e = &mut totals.energy[p];
+            for c in 0..3 {
+                e[c] += texel[c] as f64;
+            }
+        }
+        if let Some(area) = patch_area {
+            for (e, &a) in totals.energy.iter_mut().zip(area) {
+                *e = e.map(|v| v * a);
+            }
+        }
+        totals
+    }
+
+    /// Power of polygon p: π·Σ L·A, RGB mean (the paper's `Intensity`).
+    pub fn power(&self, p: usize) -> f64 {
+        let e = self.energy[p];
+        std::f64::consts::PI * (e[0] + e[1] + e[2]) / 3.0
+    }
+
+    pub fn total_power(&self) -> f64 {
+        (0..self.energy.len()).map(|p| self.power(p)).sum()
+    }
+
+    /// The paper's `Find_Max_Energy_lm`: the polygon with the largest unshot power above
+    /// `floor`, or `None`. Ties go to the lower ID, so the choice is deterministic.
+    pub fn find_max_energy(&self, floor: f64) -> Option<usize> {
+        let mut best = None;
+        let mut energy = floor;
+        for p in 0..self.energy.len() {
+            let f = self.power(p);
+            if f > energy {
+                energy = f;
+                best = Some(p);
+            }
+        }
+        best
+    }
+
+    pub fn energy_rgb(&self, p: usize) -> Vec3 {
+        let e = self.energy[p];
+        Vec3::new(e[0] as f32, e[1] as f32, e[2] as f32)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn picks_the_polygon_with_most_power_not_most_radiance() {
+        // Polygon 0: one bright patch of area 1; polygon 1: four dimmer patches of area 1.
+        let rgba = [
+            3.0, 3.0, 3.0, 1.0, //
+            1.0, 1.0, 1.0, 2.0, 1.0, 1.0, 1.0, 2.0, 1.0, 1.0, 1.0, 2.0, 1.0, 1.0, 1.0, 2.0, //
+            9.0, 9.0, 9.0, 0.0, // not a patch
+        ];
+        let t = EnergyTotals::sum(&rgba, 2, Some(&[1.0, 1.0]));
+        assert_eq!(t.patches, vec![1, 4]);
+        assert_eq!(t.find_max_energy(0.0), Some(1));
+        assert!((t.total_power() - std::f64::consts::PI * 7.0).abs() < 1e-9);
+        assert_eq!(t.find_max_energy(100.0), None);
+    }
+}

@@ -1,0 +1,112 @@
+//! The scene as one interleaved vertex buffer, built once: every pass draws all polygons with a
+//! single draw call (the paper draws polygon by polygon; same fragments, fewer calls).
+
+use crate::gl::objects::Attribute;
+use crate::gl::{GlError, Mesh};
+use crate::patches::PatchLayout;
+use crate::scene::{triangulate, Scene};
+
+/// Attribute locations, bound before linking (paper 2.2, step 9).
+pub const POSITION: u32 = 0;
+pub const NORMAL: u32 = 1;
+pub const LIGHTMAP_UV: u32 = 2;
+pub const POLYGON_ID: u32 = 3;
+pub const REFLECTANCE: u32 = 4;
+pub const EMISSION: u32 = 5;
+
+pub const ATTRIBUTES: &[(u32, &str)] = &[
+    (POSITION, "Position"),
+    (NORMAL, "Normal"),
+    (LIGHTMAP_UV, "LightmapUV"),
+    (POLYGON_ID, "PolygonId"),
+    (REFLECTANCE, "Reflectance"),
+    (EMISSION, "Emission"),
+];
+
+const FLOATS: i32 = 15;
+
+/// The vertex data: per triangle corner position, normal, atlas UV, polygon ID, Kd, Ke.
+pub fn vertex_data(scene: &Scene, layout: &PatchLayout) -> Vec<f32> {
+    let mut data = Vec::new();
+    for (i, p) in scene.polygons.iter().enumerate() {
+        let m = scene.material(p);
+        for tri in triangulate(&p.vertices, p.normal) {
+            for &k in &tri {
+                let v = p.vertices[k];
+                let uv = layout.atlas_uv(i, v);
+                data.extend_from_slice(&v.to_array());
+                data.extend_from_slice(&p.normal.to_array());
+                data.extend_from_slice(&uv.to_array());
+                data.push(i as f32);
+                data.extend_from_slice(&m.kd.to_array());
+                data.extend_from_slice(&m.ke.to_array());
+            }
+        }
+    }
+    data
+}
+
+/// The scene for the visibility pass, with every triangle cut into a grid of sub-triangles
+/// whose edges are at most `max_edge` long. The hemispherical projection maps straight edges to
+/// curves; the rasterizer draws straight lines between projected vertices, so large polygons
+/// must be cut small for the item buffer to be right (the paper's scenes are finely meshed
+/// already; the Cornell box's walls are single quads).
+pub fn tessellated_data(scene: &Scene, layout: &PatchLayout, max_edge: f32) -> Vec<f32> {
+    let mut data = Vec::new();
+    for (i, p) in scene.polygons.iter().enumerate() {
+        let m = scene.material(p);
+        for tri in triangulate(&p.vertices, p.normal) {
+            let [a, b, c] = tri.map(|k| p.vertices[k]);
+            let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+            let n = ((longest / max_edge).ceil() as usize).clamp(1, 256);
+            // Barycentric grid: point (r, s) = a + (b - a) r/n + (c - a) s/n.
+            let at = |r: usize, s: usize| {
+                a + (b - a) * (r as f32 / n as f32) + (c - a) * (s as f32 / n as f32)
+            };
+            let mut push = |v: glam::Vec3| {
+                let uv = layout.atlas_uv(i, v);
+                data.extend_from_slice(&v.to_array());
+                data.extend_from_slice(&p.normal.to_array());
+                data.extend_from_slice(&uv.to_array());
+                data.push(i as f32);
+                data.extend_from_slice(&m.kd.to_array());
+                data.extend_from_slice(&m.ke.to_array());
+            };
+            for r in 0..n {
+                for s in 0..n - r {
+                    push(at(r, s));
+                    push(at(r + 1, s));
+                    push(at(r, s + 1));
+                    if r + s + 2 <= n {
+                        push(at(r + 1, s));
+                        push(at(r + 1, s + 1));
+                        push(at(r, s + 1));
+                    }
+                }
+            }
+        }
+    }
+    data
+}
+
+/// Upload vertex data made by [`vertex_data`] or [`tessellated_data`].
+pub fn upload(gl: &crate::gl::Gl, data: &[f32]) -> Result<Mesh, GlError> {
+    let a = |location, size, offset| Attribute {
+        location,
+        size,
+        offset,
+    };
+    Mesh::new(
+        gl,
+        data,
+        FLOATS,
+        &[
+            a(POSITION, 3, 0),
+            a(NORMAL, 3, 3),
+            a(LIGHTMAP_UV, 2, 6),
+            a(POLYGON_ID, 1, 8),
+            a(REFLECTANCE, 3, 9),
+            a(EMISSION, 3, 12),
+        ],
+    )
+}

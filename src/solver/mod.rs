@@ -1,0 +1,87 @@
+//! The solver: progressive refinement radiosity as in section 3.2 of the paper, on the GPU.
+//!
+//! `progressive.rs` is the loop in the paper's order; each step is its own file:
+//! `find_max_energy.rs` (choose the shooter on the CPU), `visibility.rs` (item buffer from the
+//! shooter), `reconstruction.rs` (form factors and received energy per patch, accumulation).
+//! `mesh.rs` builds the one vertex buffer every pass draws.
+
+pub mod find_max_energy;
+pub mod mesh;
+pub mod progressive;
+pub mod reconstruction;
+pub mod visibility;
+
+pub use progressive::{GpuSolver, SolveError};
+
+use glam::{Mat4, Vec3};
+
+/// Stopping rule and pass parameters.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SolveOptions {
+    /// Stop when unshot power / emitted power falls to this. Range (0, 1); typical 0.01.
+    pub threshold: f32,
+    /// Stop after this many shots whatever the unshot fraction. Typical 10 000.
+    pub max_shots: u32,
+    /// Item-buffer side in pixels. Range 16..=max texture size; typical 512.
+    pub hemi_res: u32,
+    /// Longest triangle edge drawn by the visibility pass, in patch sizes; 0 draws the polygons
+    /// whole, as the paper does. Typical 2.
+    pub tessellation: f32,
+    /// Side, in patches, of the cells a polygon shoots from; 0 shoots the whole polygon from its
+    /// centroid, as the paper does. Typical 8.
+    pub shooter_cell: u32,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions {
+            threshold: 0.01,
+            max_shots: 10_000,
+            hemi_res: 512,
+            tessellation: 2.0,
+            shooter_cell: 8,
+        }
+    }
+}
+
+/// A shooter: a polygon, or one cell of its lightmap, shooting its unshot energy from one point
+/// (the paper: the whole polygon from its centre).
+#[derive(Clone, Copy, Debug)]
+pub struct Shooter {
+    pub polygon: usize,
+    /// The atlas texels whose unshot energy this shot carries (and clears): [x0, y0, x1, y1).
+    pub texels: [u32; 4],
+    pub position: Vec3,
+    pub normal: Vec3,
+    /// Unshot radiance times area, RGB (what the shader calls ShootEnergy).
+    pub energy: Vec3,
+}
+
+impl Shooter {
+    /// World -> shooter eye space: eye at the shooter, looking down -z along its normal.
+    pub fn view(&self) -> Mat4 {
+        let up = self.normal.any_orthonormal_vector();
+        Mat4::look_at_rh(self.position, self.position + self.normal, up)
+    }
+
+    /// Power it shoots, π·L·A, averaged over RGB.
+    pub fn power(&self) -> f64 {
+        std::f64::consts::PI * (self.energy.x as f64 + self.energy.y as f64 + self.energy.z as f64)
+            / 3.0
+    }
+}
+
+/// One shot, as reported in `stats.json`'s history.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ShotRecord {
+    pub shot: u32,
+    pub shooter: usize,
+    /// Seconds since the solve started, at the end of this shot.
+    pub seconds: f64,
+    /// Unshot power / emitted power after this shot.
+    pub unshot_fraction: f64,
+    /// Power the shooter shot (π·ΔL·A, RGB mean).
+    pub shot_power: f64,
+    /// Power the receivers reflect from it (added to their unshot energy).
+    pub reflected_power: f64,
+}

@@ -1,0 +1,155 @@
+//! Reconstruction pass (paper 3.2.2): every receiver drawn orthographically onto its lightmap
+//! texels, into an FBO whose colour attachments are *renderbuffers* the size of the atlas. The
+//! fragment shader tests visibility against the item buffer and computes the form factor and the
+//! received energy; the results are copied into the lightmap textures with glCopyTexSubImage2D.
+//!
+//! Two attachments: 0 = radiosity + ΔL, 1 = unshot + ΔL (the shooter's own unshot cleared).
+//! The paper adds with GL_ADD while copying; a copy cannot add, so the shader adds the old value
+//! it reads from the texture, and the copy replaces the texture with the sum: same result.
+
+use super::mesh::ATTRIBUTES;
+use super::Shooter;
+use crate::gl::{Framebuffer, GlContext, GlError, Mesh, Program, Renderbuffer, Texture};
+use crate::glsl;
+use glow::HasContext;
+
+pub const NAME: &str = "reconstruction";
+pub const INIT_NAME: &str = "initialisation";
+pub const COPY_NAME: &str = "accumulation";
+
+pub struct ReconstructionPass {
+    program: Program,
+    emission: Program,
+    _radiosity_rb: Renderbuffer,
+    _unshot_rb: Renderbuffer,
+    fbo: Framebuffer,
+    width: i32,
+    height: i32,
+}
+
+impl ReconstructionPass {
+    pub fn new(ctx: &GlContext, width: i32, height: i32) -> Result<Self, GlError> {
+        let gl = &ctx.gl;
+        let outputs = &[(0, "NewRadiosity"), (1, "NewUnshot")];
+        let program = Program::new(
+            gl,
+            glsl!("lightmap.vert"),
+            glsl!("reconstruct.frag"),
+            ATTRIBUTES,
+            outputs,
+        )?;
+        let emission = Program::new(
+            gl,
+            glsl!("lightmap.vert"),
+            glsl!("emission.frag"),
+            ATTRIBUTES,
+            outputs,
+        )?;
+        let radiosity_rb = Renderbuffer::new(gl, glow::RGBA32F, width, height)?;
+        let unshot_rb = Renderbuffer::new(gl, glow::RGBA32F, width, height)?;
+        let fbo = Framebuffer::new(gl)?;
+        fbo.attach_renderbuffer(glow::COLOR_ATTACHMENT0, &radiosity_rb);
+        fbo.attach_renderbuffer(glow::COLOR_ATTACHMENT1, &unshot_rb);
+        fbo.check_complete(NAME)?;
+        unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
+        ctx.check(NAME)?;
+        Ok(ReconstructionPass {
+            program,
+            emission,
+            _radiosity_rb: radiosity_rb,
+            _unshot_rb: unshot_rb,
+            fbo,
+            width,
+            height,
+        })
+    }
+
+    fn begin(&self, ctx: &GlContext) {
+        let gl = &ctx.gl;
+        self.fbo.bind();
+        unsafe {
+            gl.viewport(0, 0, self.width, self.height);
+            gl.draw_buffers(&[glow::COLOR_ATTACHMENT0, glow::COLOR_ATTACHMENT1]);
+            gl.disable(glow::DEPTH_TEST);
+            gl.disable(glow::BLEND);
+            gl.disable(glow::CULL_FACE);
+            gl.disable(glow::SCISSOR_TEST);
+            // Texels that are no patch stay zero (alpha 0: no polygon).
+            gl.clear_color(0.0, 0.0, 0.0, 0.0);
+            gl.clear(glow::COLOR_BUFFER_BIT);
+        }
+    }
+
+    /// Write each patch's emitted radiance (and its polygon ID in alpha) into both attachments.
+    pub fn emit(&self, ctx: &GlContext, mesh: &Mesh) -> Result<(), GlError> {
+        self.begin(ctx);
+        self.emission.use_program();
+        mesh.draw();
+        ctx.check(INIT_NAME)
+    }
+
+    /// One reconstruction: ΔL for every patch from `shooter`, added to `radiosity` and `unshot`
+    /// (read as textures) into the two renderbuffers.
+    pub fn run(
+        &self,
+        ctx: &GlContext,
+        mesh: &Mesh,
+        item_buffer: &Texture,
+        radiosity: &Texture,
+        unshot: &Texture,
+        shooter: &Shooter,
+    ) -> Result<(), GlError> {
+        self.begin(ctx);
+        self.program.use_program();
+        item_buffer.bind(0);
+        radiosity.bind(1);
+        unshot.bind(2);
+        self.program.set_i32("HemiItemBuffer", 0);
+        self.program.set_i32("Radiosity", 1);
+        self.program.set_i32("Unshot", 2);
+        self.program
+            .set_mat4("ShooterView", &shooter.view().to_cols_array());
+        self.program
+            .set_vec3("ShootPos", shooter.position.to_array());
+        self.program
+            .set_vec3("ShootNormal", shooter.normal.to_array());
+        self.program
+            .set_vec3("ShootEnergy", shooter.energy.to_array());
+        self.program.set_f32("ShooterId", shooter.polygon as f32);
+        self.program
+            .set_vec4("ShooterTexels", shooter.texels.map(|v| v as f32));
+        mesh.draw();
+        unsafe {
+            ctx.gl.active_texture(glow::TEXTURE0);
+        }
+        ctx.check(NAME)
+    }
+
+    /// Read the new unshot atlas (attachment 1) for Find_Max_Energy.
+    pub fn read_unshot(&self, out: &mut Vec<f32>) {
+        self.fbo
+            .read_f32(glow::COLOR_ATTACHMENT1, self.width, self.height, out);
+    }
+
+    /// Read the new radiosity atlas (attachment 0).
+    pub fn read_radiosity(&self, out: &mut Vec<f32>) {
+        self.fbo
+            .read_f32(glow::COLOR_ATTACHMENT0, self.width, self.height, out);
+    }
+
+    /// The paper's accumulation: glCopyTexSubImage2D from the renderbuffers into the lightmaps.
+    pub fn copy_into(
+        &self,
+        ctx: &GlContext,
+        radiosity: &Texture,
+        unshot: &Texture,
+    ) -> Result<(), GlError> {
+        self.fbo.copy_to_texture(glow::COLOR_ATTACHMENT0, radiosity);
+        self.fbo.copy_to_texture(glow::COLOR_ATTACHMENT1, unshot);
+        unsafe {
+            ctx.gl.read_buffer(glow::COLOR_ATTACHMENT0);
+            ctx.gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+        }
+        ctx.check(COPY_NAME)
+    }
+}

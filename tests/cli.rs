@@ -1,0 +1,207 @@
+//! The command-line contract (CONVENTIONS.md): outputs, stats.json, backends, and clear errors.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn radiosity(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn solve_without_arguments_writes_the_cornell_box() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = radiosity(&["solve"], dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let out_dir = dir.path().join("out/cornell");
+    for f in ["image.png", "image.exr", "lightmap.exr", "stats.json"] {
+        assert!(out_dir.join(f).is_file(), "{f} missing");
+    }
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("stats.json")).unwrap())
+            .unwrap();
+    for key in [
+        "scene",
+        "faces",
+        "vertices",
+        "lights",
+        "patches",
+        "solver",
+        "backend",
+        "gl_vendor",
+        "gl_renderer",
+        "gl_version",
+        "threshold",
+        "shots",
+        "solve_seconds",
+        "unshot_fraction",
+        "history",
+    ] {
+        assert!(stats.get(key).is_some(), "stats.json lacks {key}");
+    }
+    assert_eq!(stats["faces"], 19);
+    assert_eq!(stats["lights"], 1);
+    assert!(stats["unshot_fraction"].as_f64().unwrap() <= 0.01);
+    let history = stats["history"].as_array().unwrap();
+    assert_eq!(history.len() as u64, stats["shots"].as_u64().unwrap());
+    for key in ["shot", "seconds", "unshot_fraction"] {
+        assert!(history[0].get(key).is_some(), "history entries lack {key}");
+    }
+
+    // The picture: red wall on the left, green on the right (CONVENTIONS.md's camera).
+    let png = image::open(out_dir.join("image.png")).unwrap().to_rgb8();
+    assert_eq!(png.dimensions(), (512, 512));
+    let mean = |x0: u32, x1: u32, y0: u32, y1: u32| {
+        let mut s = [0f64; 3];
+        for y in y0..y1 {
+            for x in x0..x1 {
+                for (acc, v) in s.iter_mut().zip(png.get_pixel(x, y).0) {
+                    *acc += v as f64;
+                }
+            }
+        }
+        s.map(|v| v / ((x1 - x0) * (y1 - y0)) as f64)
+    };
+    let left = mean(30, 90, 150, 350);
+    let right = mean(420, 480, 150, 350);
+    let back = mean(200, 320, 100, 180);
+    println!("left {left:?} right {right:?} back {back:?}");
+    assert!(left[0] > 2.0 * left[1], "the left wall is red: {left:?}");
+    assert!(
+        right[1] > 1.3 * right[0] && right[1] > 2.0 * right[2],
+        "the right wall is green: {right:?}"
+    );
+    assert!(
+        back.iter().all(|&v| v > 40.0),
+        "the back wall is lit: {back:?}"
+    );
+}
+
+#[test]
+fn both_backends_give_the_same_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = common::scene_path("shadow");
+    let mut images = Vec::new();
+    let mut renderers = Vec::new();
+    for backend in ["egl", "osmesa"] {
+        let out_dir = dir.path().join(backend);
+        let out = radiosity(
+            &[
+                "solve",
+                scene.to_str().unwrap(),
+                "--backend",
+                backend,
+                "--size",
+                "160x120",
+                "--out",
+                out_dir.to_str().unwrap(),
+            ],
+            dir.path(),
+        );
+        assert!(out.status.success(), "{backend}: {}", stderr(&out));
+        let stats: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out_dir.join("stats.json")).unwrap())
+                .unwrap();
+        assert_eq!(stats["backend"], backend);
+        renderers.push(stats["gl_renderer"].as_str().unwrap().to_string());
+        images.push(image::open(out_dir.join("image.exr")).unwrap().to_rgb32f());
+    }
+    assert_eq!(images[0].dimensions(), (160, 120));
+    let worst = images[0]
+        .as_raw()
+        .iter()
+        .zip(images[1].as_raw())
+        .map(|(a, b)| (a - b).abs() / a.abs().max(1e-3))
+        .fold(0f32, f32::max);
+    println!(
+        "egl: {} / osmesa: {}; worst relative difference {worst:e}",
+        renderers[0], renderers[1]
+    );
+    assert!(worst < 1e-3, "the backends disagree by up to {worst}");
+}
+
+fn assert_clean_failure(out: &Output, needles: &[&str]) {
+    let err = stderr(out);
+    assert!(!out.status.success(), "should fail: {err}");
+    assert!(
+        !err.contains("panicked") && !err.contains("RUST_BACKTRACE"),
+        "no panic: {err}"
+    );
+    for n in needles {
+        assert!(err.contains(n), "message should mention '{n}': {err}");
+    }
+}
+
+#[test]
+fn missing_scene_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = radiosity(&["solve", "no/such/scene.obj"], dir.path());
+    assert_clean_failure(&out, &["no/such/scene.obj", "No such file"]);
+    assert!(
+        !dir.path().join("out").exists(),
+        "nothing is written for a scene that does not load"
+    );
+}
+
+#[test]
+fn bad_scenes_are_clear_errors_with_the_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let dark = write("dark.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    assert_clean_failure(
+        &radiosity(&["solve", &dark], dir.path()),
+        &["dark.obj", "no emitter", "Ke"],
+    );
+    let bad_number = write("num.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n");
+    assert_clean_failure(
+        &radiosity(&["solve", &bad_number], dir.path()),
+        &["num.obj:2"],
+    );
+    let bad_index = write("idx.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 9\n");
+    assert_clean_failure(
+        &radiosity(&["solve", &bad_index], dir.path()),
+        &["idx.obj:5"],
+    );
+}
+
+#[test]
+fn no_driver_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args(["solve", "--out", "x"])
+        .current_dir(dir.path())
+        .env("RADIOSITY_OSMESA_LIB", "/nonexistent/libOSMesa.so")
+        .env(
+            "__EGL_VENDOR_LIBRARY_FILENAMES",
+            "/nonexistent/egl_vendor.json",
+        )
+        .output()
+        .unwrap();
+    assert_clean_failure(
+        &out,
+        &["no usable OpenGL", "egl", "osmesa", "apt-get install"],
+    );
+}
+
+#[test]
+fn unwritable_output_directory_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("a-file");
+    std::fs::write(&file, "not a directory").unwrap();
+    let target = file.join("sub");
+    let out = radiosity(&["solve", "--out", target.to_str().unwrap()], dir.path());
+    assert_clean_failure(&out, &["output directory", "a-file"]);
+}

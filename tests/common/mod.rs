@@ -1,0 +1,84 @@
+//! Independent CPU geometry for the GPU tests: ray casting against the scene's polygons.
+#![allow(dead_code)]
+
+use glam::{Vec2, Vec3};
+use gpu_radiosity::gl::{BackendChoice, GlContext};
+use gpu_radiosity::patches::{inside, PatchLayout, Resolution};
+use gpu_radiosity::scene::{load_obj, Polygon, Scene};
+use std::path::PathBuf;
+
+pub fn scene_path(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
+        .join(format!("{name}.obj"))
+}
+
+pub fn load(name: &str) -> Scene {
+    load_obj(&scene_path(name)).expect("bundled scene loads")
+}
+
+pub fn layout(scene: &Scene, patch_size: f32) -> PatchLayout {
+    PatchLayout::new(scene, Resolution::PatchSize(patch_size))
+}
+
+pub fn context() -> GlContext {
+    GlContext::headless(BackendChoice::Auto).expect("a GL 3.0 context (Mesa llvmpipe)")
+}
+
+/// Distance along the ray to the polygon (either side), if it is hit in front of the origin.
+pub fn hit(polygon: &Polygon, origin: Vec3, dir: Vec3) -> Option<f32> {
+    let denom = dir.dot(polygon.normal);
+    if denom.abs() < 1e-9 {
+        return None;
+    }
+    let t = (polygon.vertices[0] - origin).dot(polygon.normal) / denom;
+    if t <= 0.0 {
+        return None;
+    }
+    let p = origin + dir * t;
+    let u = (polygon.vertices[1] - polygon.vertices[0]).normalize();
+    let v = polygon.normal.cross(u);
+    let flat: Vec<Vec2> = polygon
+        .vertices
+        .iter()
+        .map(|q| Vec2::new(q.dot(u), q.dot(v)))
+        .collect();
+    inside(&flat, Vec2::new(p.dot(u), p.dot(v))).then_some(t)
+}
+
+/// The nearest polygon along a ray, skipping `skip`.
+pub fn first_hit(scene: &Scene, origin: Vec3, dir: Vec3, skip: usize) -> Option<(usize, f32)> {
+    scene
+        .polygons
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| i != skip)
+        .filter_map(|(i, p)| hit(p, origin, dir).map(|t| (i, t)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// Is the segment from `a` to `b` free of every polygon except `skip_a` and `skip_b`?
+pub fn unoccluded(scene: &Scene, a: Vec3, b: Vec3, skip_a: usize, skip_b: usize) -> bool {
+    let d = b - a;
+    let len = d.length();
+    let dir = d / len;
+    scene.polygons.iter().enumerate().all(|(i, p)| {
+        i == skip_a || i == skip_b || hit(p, a, dir).is_none_or(|t| t >= len * (1.0 - 1e-5))
+    })
+}
+
+/// The centres of polygon `p`'s patches: (atlas texel index, world position).
+pub fn patch_centres(layout: &PatchLayout, p: usize) -> Vec<(usize, Vec3)> {
+    let lm = &layout.lightmaps[p];
+    let mut out = Vec::new();
+    for t in 0..lm.h {
+        for s in 0..lm.w {
+            let at = (lm.y + t) as usize * layout.atlas_width as usize + (lm.x + s) as usize;
+            if layout.owner[at] == p as u32 + 1 {
+                out.push((at, lm.world(s as f32 + 0.5, t as f32 + 0.5)));
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,76 @@
+//! Energy bookkeeping in a closed box (scenes/box: a unit cube, ρ = 0.5 everywhere, the top face
+//! emits Le = 1): all that a shot sends lands on the other walls, and no shot creates energy.
+
+mod common;
+
+use common::*;
+use gpu_radiosity::solver::{GpuSolver, SolveOptions};
+
+const RHO: f64 = 0.5;
+
+fn solver_options(shooter_cell: u32) -> SolveOptions {
+    SolveOptions {
+        threshold: 1e-3,
+        max_shots: 400,
+        shooter_cell,
+        ..Default::default()
+    }
+}
+
+#[test]
+fn a_shot_delivers_its_power_to_the_closed_box() {
+    let scene = load("box");
+    let layout = layout(&scene, 1.0 / 32.0);
+    let ctx = context();
+    for cell in [0, 8] {
+        let mut solver = GpuSolver::new(&ctx, &scene, &layout, solver_options(cell)).unwrap();
+        let emitted = solver.emitted_power();
+        // Le = 1 on a unit square: Φ = π.
+        assert!(
+            (emitted - std::f64::consts::PI).abs() < 1e-5,
+            "emitted {emitted}"
+        );
+        let first = solver.step().unwrap().unwrap();
+        assert!((first.shot_power - emitted).abs() < 1e-5);
+        let incident = first.reflected_power / RHO;
+        let ratio = incident / first.shot_power;
+        println!(
+            "shooter cell {cell}: first shot delivers {:.2} % of its power",
+            100.0 * ratio
+        );
+        assert!(
+            (ratio - 1.0).abs() < 0.03,
+            "cell {cell}: delivered / shot = {ratio}"
+        );
+    }
+}
+
+#[test]
+fn no_shot_creates_energy() {
+    let scene = load("box");
+    let layout = layout(&scene, 1.0 / 24.0);
+    let ctx = context();
+    for cell in [0, 8] {
+        let mut solver = GpuSolver::new(&ctx, &scene, &layout, solver_options(cell)).unwrap();
+        solver.solve(|_| {}).unwrap();
+        let worst = solver
+            .history
+            .iter()
+            .map(|r| r.reflected_power / (RHO * r.shot_power))
+            .fold(0.0f64, f64::max);
+        println!(
+            "shooter cell {cell}: {} shots to unshot {:.4}; worst delivered/shot {:.4}",
+            solver.shots(),
+            solver.unshot_fraction(),
+            worst
+        );
+        assert!(solver.shots() > 10);
+        assert!(
+            worst <= 1.03,
+            "cell {cell}: a shot delivered {worst} x its power"
+        );
+        for r in &solver.history {
+            assert!(r.reflected_power >= 0.0);
+        }
+    }
+}

@@ -1,0 +1,115 @@
+//! The visibility pass's item buffer holds the right polygon IDs in the right places: every
+//! pixel is checked against a CPU ray cast along the direction the hemispherical projection maps
+//! to that pixel.
+
+mod common;
+
+use common::*;
+use glam::Vec3;
+use gpu_radiosity::scene::Scene;
+use gpu_radiosity::solver::{GpuSolver, SolveOptions};
+
+/// Fraction of item-buffer pixels (away from ID boundaries and the disk's rim) whose ID matches
+/// the CPU ray cast, plus the IDs at a few named directions.
+fn compare(
+    scene: &Scene,
+    shooter_polygon: usize,
+    tessellation: f32,
+    res: u32,
+) -> (f64, Vec<Option<u32>>) {
+    let ctx = context();
+    let layout = gpu_radiosity::patches::PatchLayout::new(
+        scene,
+        gpu_radiosity::patches::Resolution::Patches(2048),
+    );
+    let options = SolveOptions {
+        hemi_res: res,
+        tessellation,
+        shooter_cell: 0,
+        ..Default::default()
+    };
+    let mut solver = GpuSolver::new(&ctx, scene, &layout, options).unwrap();
+    let shooters = solver.shooters_of(shooter_polygon);
+    assert_eq!(shooters.len(), 1, "paper mode: one shooter per polygon");
+    let shooter = shooters[0];
+    solver.shoot(&shooters).unwrap();
+    let ids = solver.visibility.read_ids();
+    assert_eq!(ids.len(), (res * res) as usize);
+
+    let to_world = shooter.view().inverse();
+    let expected = |i: u32, j: u32| -> Option<Option<u32>> {
+        let u = 2.0 * (i as f32 + 0.5) / res as f32 - 1.0;
+        let v = 2.0 * (j as f32 + 0.5) / res as f32 - 1.0;
+        let r2 = u * u + v * v;
+        if r2 >= 0.97 {
+            return None;
+        }
+        let dir = to_world
+            .transform_vector3(Vec3::new(u, v, -(1.0 - r2).sqrt()))
+            .normalize();
+        Some(first_hit(scene, shooter.position, dir, shooter_polygon).map(|(id, _)| id as u32))
+    };
+    let cpu: Vec<Option<Option<u32>>> = (0..res)
+        .flat_map(|j| (0..res).map(move |i| (i, j)))
+        .map(|(i, j)| expected(i, j))
+        .collect();
+    let (mut agree, mut total) = (0u64, 0u64);
+    for j in 1..res - 1 {
+        for i in 1..res - 1 {
+            let at = (j * res + i) as usize;
+            let Some(want) = cpu[at] else { continue };
+            let neighbours = [at - 1, at + 1, at - res as usize, at + res as usize];
+            if neighbours.iter().any(|&n| cpu[n] != Some(want)) {
+                continue; // an ID boundary runs through this pixel
+            }
+            total += 1;
+            agree += (ids[at] == want) as u64;
+        }
+    }
+    (agree as f64 / total as f64, ids)
+}
+
+#[test]
+fn item_buffer_from_the_light_of_the_shadow_scene() {
+    // Floor 0 (2x2 at y=0), light 1 (at y=2, facing down), occluder 2 (0.6x0.6 at y=1).
+    let scene = load("shadow");
+    let res = 256;
+    let (agreement, ids) = compare(&scene, 1, 2.0, res);
+    println!(
+        "shadow scene: {:.4} % of interior pixels agree with the CPU",
+        100.0 * agreement
+    );
+    assert!(agreement > 0.999, "agreement {agreement}");
+    let at = |u: f32, v: f32| {
+        let i = ((u * 0.5 + 0.5) * res as f32) as u32;
+        let j = ((v * 0.5 + 0.5) * res as f32) as u32;
+        ids[(j * res + i) as usize]
+    };
+    // Straight down: the occluder. Its edge is at atan(0.3 / 1): sin = 0.287 on the disk.
+    assert_eq!(at(0.0, 0.0), Some(2));
+    assert_eq!(at(0.2, 0.0), Some(2));
+    // Between the occluder's edge and the floor's edge (sin atan(1/2) = 0.447 along an axis).
+    assert_eq!(at(0.37, 0.0), Some(0));
+    assert_eq!(at(0.0, -0.37), Some(0));
+    // Beyond the floor, nothing.
+    assert_eq!(at(0.0, 0.8), None);
+    assert_eq!(at(-0.8, 0.0), None);
+}
+
+#[test]
+fn item_buffer_from_the_cornell_light_matches_ray_casting() {
+    let scene = load("cornell");
+    let light = scene
+        .polygons
+        .iter()
+        .position(|p| scene.material(p).is_emitter())
+        .unwrap();
+    let (tessellated, _) = compare(&scene, light, 2.0, 256);
+    let (whole, _) = compare(&scene, light, 0.0, 256);
+    println!(
+        "cornell from the light: tessellated {:.3} %, whole polygons (paper) {:.3} %",
+        100.0 * tessellated,
+        100.0 * whole
+    );
+    assert!(tessellated > 0.99, "tessellated agreement {tessellated}");
+}

@@ -1,0 +1,109 @@
+//! One shot on the GPU against the same formula evaluated on the CPU, patch by patch:
+//! ΔL = ρ · ΔL_s·A_s · max(cos_i cos_j, 0) / (π r²) · V, with V from CPU ray casting.
+
+mod common;
+
+use common::*;
+use glam::Vec3;
+use gpu_radiosity::solver::{GpuSolver, Shooter, SolveOptions};
+
+/// The CPU's ΔL at `pos` (normal `n`, reflectance `rho`) from each shooter, or `None` when the
+/// visibility of the patch is ambiguous (a shadow edge crosses it).
+fn expected(
+    scene: &gpu_radiosity::scene::Scene,
+    receiver: usize,
+    pos: Vec3,
+    half_texel: (Vec3, Vec3),
+    shooters: &[Shooter],
+) -> Option<Vec3> {
+    let polygon = &scene.polygons[receiver];
+    let rho = scene.material(polygon).kd;
+    let mut total = Vec3::ZERO;
+    for s in shooters {
+        let (du, dv) = half_texel;
+        let corners = [pos + du + dv, pos + du - dv, pos - du + dv, pos - du - dv];
+        let v = unoccluded(scene, pos, s.position, receiver, s.polygon);
+        if corners
+            .iter()
+            .any(|&c| unoccluded(scene, c, s.position, receiver, s.polygon) != v)
+        {
+            return None;
+        }
+        let r = s.position - pos;
+        let d2 = r.dot(r);
+        let r = r / d2.sqrt();
+        let f = (polygon.normal.dot(r) * -s.normal.dot(r)).max(0.0) / (std::f32::consts::PI * d2);
+        if v {
+            total += rho * s.energy * f;
+        }
+    }
+    Some(total)
+}
+
+fn check_one_shot(shooter_cell: u32) {
+    let scene = load("shadow");
+    let (floor, light, occluder) = (0, 1, 2);
+    let layout = layout(&scene, 0.05);
+    let ctx = context();
+    let options = SolveOptions {
+        shooter_cell,
+        ..Default::default()
+    };
+    let mut solver = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
+    assert_eq!(solver.next_polygon(), Some(light));
+    let shooters = solver.shooters_of(light);
+    // The light's unshot energy is Le x area = 10 x 0.25, however it is split into cells.
+    let energy: Vec3 = shooters.iter().map(|s| s.energy).sum();
+    assert!(
+        (energy - Vec3::splat(2.5)).abs().max_element() < 1e-5,
+        "energy {energy}"
+    );
+    solver.shoot(&shooters).unwrap();
+    let atlas = solver.radiosity_atlas();
+
+    let lm = &layout.lightmaps[floor];
+    let half = (
+        lm.axis_u * (0.5 / lm.w as f32),
+        lm.axis_v * (0.5 / lm.h as f32),
+    );
+    let (mut lit, mut dark, mut skipped, mut worst) = (0, 0, 0, 0f32);
+    for (at, pos) in patch_centres(&layout, floor) {
+        let gpu = Vec3::from_slice(&atlas[at * 4..at * 4 + 3]);
+        let Some(cpu) = expected(&scene, floor, pos, half, &shooters) else {
+            skipped += 1;
+            continue;
+        };
+        if cpu == Vec3::ZERO {
+            assert_eq!(gpu, Vec3::ZERO, "patch at {pos} is in shadow on the CPU");
+            dark += 1;
+        } else {
+            let err = ((gpu - cpu).abs() / cpu).max_element();
+            worst = worst.max(err);
+            assert!(err < 1e-4, "patch at {pos}: GPU {gpu} CPU {cpu}");
+            lit += 1;
+        }
+    }
+    println!("cell {shooter_cell}: {lit} lit, {dark} shadowed, {skipped} on shadow edges; worst relative error {worst:.2e}");
+    assert!(
+        lit > 900 && dark > 200,
+        "the test must see both light and shadow"
+    );
+    assert!(
+        skipped * 3 < lit + dark,
+        "too many ambiguous patches: {skipped}"
+    );
+    // The occluder faces away from the light: it receives nothing.
+    for (at, _) in patch_centres(&layout, occluder) {
+        assert_eq!(&atlas[at * 4..at * 4 + 3], &[0.0; 3]);
+    }
+}
+
+#[test]
+fn one_shot_from_the_polygon_centre_matches_the_cpu() {
+    check_one_shot(0);
+}
+
+#[test]
+fn one_shot_from_lightmap_cells_matches_the_cpu() {
+    check_one_shot(4);
+}
