@@ -127,6 +127,8 @@ pub struct Stats {
     pub hemi_res: u32,
     pub tessellate: f32,
     pub shots: u32,
+    /// Visibility + reconstruction pass pairs (one per shooter cell of each shot).
+    pub passes: u32,
     pub solve_seconds: f64,
     pub unshot_fraction: f64,
     pub emitted_power: f64,
@@ -210,8 +212,9 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     bar.finish_and_clear();
     let solve_seconds = solver.history.last().map(|r| r.seconds).unwrap_or(0.0);
     eprintln!(
-        "solved: {} shots, unshot fraction {:.5}, {:.3} s",
+        "solved: {} shots ({} passes), unshot fraction {:.5}, {:.3} s",
         solver.shots(),
+        solver.passes,
         solver.unshot_fraction(),
         solve_seconds
     );
@@ -262,6 +265,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         hemi_res: args.hemi_res,
         tessellate: args.tessellate,
         shots: solver.shots(),
+        passes: solver.passes,
         solve_seconds,
         unshot_fraction: solver.unshot_fraction(),
         emitted_power: solver.emitted_power(),

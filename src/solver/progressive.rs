@@ -73,6 +73,8 @@ pub struct GpuSolver<'a> {
     totals: EnergyTotals,
     scratch: Vec<f32>,
     shots: u32,
+    /// Visibility + reconstruction pass pairs run so far (one per shooter cell).
+    pub passes: u32,
     started: Instant,
     pub history: Vec<ShotRecord>,
     pub times: PassTimes,
@@ -175,6 +177,7 @@ impl<'a> GpuSolver<'a> {
             totals,
             scratch,
             shots: 0,
+            passes: 0,
             started: Instant::now(),
             history: Vec::new(),
             times: PassTimes::default(),
@@ -294,6 +297,7 @@ impl<'a> GpuSolver<'a> {
             self.times.visibility += (t1 - t).as_secs_f64();
             self.times.reconstruction += (t2 - t1).as_secs_f64();
             self.times.accumulation += t2.elapsed().as_secs_f64();
+            self.passes += 1;
         }
         let t = Instant::now();
         self.reconstruction.read_unshot(&mut self.scratch);
