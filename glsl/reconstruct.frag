@@ -1,10 +1,9 @@
 #version 130
 // Reconstruction pass, fragment stage (paper 3.2.2, codes 1 and 2). For this patch (fragment):
-// is it the polygon the shooter sees in this direction (item buffer ID test)? If so, the point
-// form factor F = max(cos_i cos_j, 0) / (pi r^2) and the received radiance
-// dL = rho * F * ShootEnergy, where ShootEnergy is the shooter's unshot radiance times its area.
-// The paper adds the result to the lightmaps (GL_ADD + glCopyTexSubImage2D); here the addition
-// is done in this shader and the host copies the sums over the old textures.
+// is it the polygon the shooter sees in this direction (item buffer ID test)? If so, the form
+// factor and the received radiance. The paper adds the result to the lightmaps (GL_ADD +
+// glCopyTexSubImage2D); here the addition is done in this shader and the host copies the sums
+// over the old textures.
 
 in vec3 RecvPos;
 flat in vec3 RecvNormal;
@@ -21,8 +20,19 @@ uniform vec3 ShootEnergy;          // unshot radiance x area of the shooter, RGB
 uniform float ShooterId;
 uniform vec4 ShooterTexels;        // [x0, y0, x1, y1) atlas texels whose unshot energy is shot
 
+uniform int FormFactorKind;        // 0: point (paper), 1: polygon (exact, finite)
+uniform vec3 ShootCorners[8];      // the shooter's outline, counter-clockwise from its front
+uniform int ShootCornerCount;
+uniform float ShootArea;           // area of that outline
+
+uniform int HemiCube;              // 0: hemispherical projection (paper), 1: hemicube
+uniform mat3 FaceRotation[5];      // hemicube faces: shooter eye space -> face eye space
+uniform int Footprint;             // 0: nearest item-buffer pixel (paper), 1: any of the 2x2
+
 out vec4 NewRadiosity;
 out vec4 NewUnshot;
+
+const float pi = 3.1415926535897932;
 
 vec4 encode_id(float id)
 {
@@ -30,28 +40,95 @@ vec4 encode_id(float id)
     return vec4(float(n & 255), float((n >> 8) & 255), float((n >> 16) & 255), 255.0) / 255.0;
 }
 
-// Code 1: project the fragment onto the shooter's hemisphere and compare IDs.
+bool same_id(vec2 uv, vec3 want)
+{
+    return all(equal(floor(texture(HemiItemBuffer, uv).rgb * 255.0 + 0.5), want));
+}
+
+// Where the direction d (shooter eye space) lands in the item buffer, in [0,1]^2.
+vec2 item_coordinates(vec3 d)
+{
+    if (HemiCube == 0) {
+        // The paper: project onto the hemisphere, flatten onto its base disk.
+        return normalize(d).xy * 0.5 + 0.5;
+    }
+    // Hemicube: the face of the largest component; faces are stacked left to right.
+    int face;
+    vec3 a = abs(d);
+    if (-d.z >= a.x && -d.z >= a.y)
+        face = 0;
+    else if (a.x >= a.y)
+        face = d.x > 0.0 ? 1 : 2;
+    else
+        face = d.y > 0.0 ? 3 : 4;
+    vec3 f = FaceRotation[face] * d;
+    vec2 uv = clamp((f.xy / -f.z) * 0.5 + 0.5, 0.0, 1.0);
+    return vec2((float(face) + uv.x) / 5.0, uv.y);
+}
+
+// Code 1: is this fragment what the shooter sees in its direction?
 bool Visible()
 {
-    vec3 proj = normalize((ShooterView * vec4(RecvPos, 1.0)).xyz);
-    if (proj.z >= 0.0)
+    vec3 d = (ShooterView * vec4(RecvPos, 1.0)).xyz;
+    if (d.z >= 0.0)
         return false;
-    vec2 uv = proj.xy * 0.5 + 0.5;
-    vec4 xtex = texture(HemiItemBuffer, uv);
-    return all(equal(floor(xtex.rgb * 255.0 + 0.5), floor(encode_id(RecvId).rgb * 255.0 + 0.5)));
+    vec2 uv = item_coordinates(d);
+    vec3 want = floor(encode_id(RecvId).rgb * 255.0 + 0.5);
+    if (Footprint == 0)
+        return same_id(uv, want);
+    // The 2x2 pixels around uv: a patch whose direction falls next to its polygon's edge in
+    // the item buffer still finds itself (no dark seams at joints).
+    vec2 size = vec2(textureSize(HemiItemBuffer, 0));
+    vec2 base = (floor(uv * size - 0.5) + 0.5) / size;
+    return same_id(base, want) || same_id(base + vec2(1.0, 0.0) / size, want)
+        || same_id(base + vec2(0.0, 1.0) / size, want) || same_id(base + vec2(1.0, 1.0) / size, want);
+}
+
+// The exact factor from this fragment (a differential area) to the shooter's outline, clipped
+// to the fragment's side of its tangent plane (Lambert's contour integral).
+float PolygonFormFactor()
+{
+    if (dot(ShootNormal, RecvPos - ShootCorners[0]) <= 0.0)
+        return 0.0;
+    vec3 clipped[9];
+    int m = 0;
+    for (int k = 0; k < ShootCornerCount; ++k) {
+        vec3 a = ShootCorners[k] - RecvPos;
+        vec3 b = ShootCorners[k + 1 < ShootCornerCount ? k + 1 : 0] - RecvPos;
+        float da = dot(a, RecvNormal);
+        float db = dot(b, RecvNormal);
+        if (da > 0.0)
+            clipped[m++] = a;
+        if ((da > 0.0) != (db > 0.0))
+            clipped[m++] = a + (b - a) * (da / (da - db));
+    }
+    if (m < 3)
+        return 0.0;
+    float sum = 0.0;
+    for (int k = 0; k < m; ++k) {
+        vec3 a = normalize(clipped[k]);
+        vec3 b = normalize(clipped[k + 1 < m ? k + 1 : 0]);
+        vec3 c = cross(a, b);
+        float len = length(c);
+        if (len > 1e-12)
+            sum += acos(clamp(dot(a, b), -1.0, 1.0)) * dot(c / len, RecvNormal);
+    }
+    return min(abs(sum) / (2.0 * pi), 1.0);
 }
 
 // Code 2: form factor and received energy.
 vec3 FormFactorEnergy()
 {
+    if (!Visible())
+        return vec3(0.0);
+    if (FormFactorKind == 1)
+        return ShootEnergy / ShootArea * RecvColor * PolygonFormFactor();
     vec3 r = ShootPos - RecvPos;
     float distance = dot(r, r);
     r = normalize(r);
     float cosi = dot(RecvNormal, r);
     float cosj = -dot(ShootNormal, r);
-    const float pi = 3.1415926535897932;
     float Fij = max(cosi * cosj, 0.0) / (pi * distance);
-    Fij *= Visible() ? 1.0 : 0.0;
     return ShootEnergy * RecvColor * Fij;
 }
 

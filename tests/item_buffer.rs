@@ -1,13 +1,14 @@
 //! The visibility pass's item buffer holds the right polygon IDs in the right places: every
-//! pixel is checked against a CPU ray cast along the direction the hemispherical projection maps
-//! to that pixel.
+//! pixel is checked against a CPU ray cast along the direction the projection (the paper's
+//! hemispherical one, or the hemicube) maps to that pixel.
 
 mod common;
 
 use common::*;
 use glam::Vec3;
 use gpu_radiosity::scene::Scene;
-use gpu_radiosity::solver::{GpuSolver, SolveOptions};
+use gpu_radiosity::solver::visibility::face_rotations;
+use gpu_radiosity::solver::{GpuSolver, SolveOptions, VisibilityKind};
 
 /// Fraction of item-buffer pixels (away from ID boundaries and the disk's rim) whose ID matches
 /// the CPU ray cast, plus the IDs at a few named directions.
@@ -16,6 +17,7 @@ fn compare(
     shooter_polygon: usize,
     tessellation: f32,
     res: u32,
+    visibility: VisibilityKind,
 ) -> (f64, Vec<Option<u32>>) {
     let ctx = context();
     let layout = gpu_radiosity::patches::PatchLayout::new(
@@ -26,7 +28,8 @@ fn compare(
         hemi_res: res,
         tessellation,
         shooter_cell: 0,
-        ..Default::default()
+        visibility,
+        ..SolveOptions::paper()
     };
     let mut solver = GpuSolver::new(&ctx, scene, &layout, options).unwrap();
     let shooters = solver.shooters_of(shooter_polygon);
@@ -34,31 +37,50 @@ fn compare(
     let shooter = shooters[0];
     solver.shoot(&shooters).unwrap();
     let ids = solver.visibility.read_ids();
-    assert_eq!(ids.len(), (res * res) as usize);
+    let faces = if visibility == VisibilityKind::Hemicube {
+        5
+    } else {
+        1
+    };
+    let width = res * faces;
+    assert_eq!(ids.len(), (width * res) as usize);
 
     let to_world = shooter.view().inverse();
+    let rotations = face_rotations();
     let expected = |i: u32, j: u32| -> Option<Option<u32>> {
+        let (face, i) = (i / res, i % res);
         let u = 2.0 * (i as f32 + 0.5) / res as f32 - 1.0;
         let v = 2.0 * (j as f32 + 0.5) / res as f32 - 1.0;
-        let r2 = u * u + v * v;
-        if r2 >= 0.97 {
-            return None;
-        }
-        let dir = to_world
-            .transform_vector3(Vec3::new(u, v, -(1.0 - r2).sqrt()))
-            .normalize();
+        let eye = if visibility == VisibilityKind::Hemicube {
+            // Face space looks down -z; back to the shooter's eye space.
+            let d = rotations[face as usize].transpose() * Vec3::new(u, v, -1.0);
+            if d.z > -0.02 * d.length() {
+                return None; // behind (or grazing) the shooter's plane
+            }
+            d
+        } else {
+            let r2 = u * u + v * v;
+            if r2 >= 0.97 {
+                return None;
+            }
+            Vec3::new(u, v, -(1.0 - r2).sqrt())
+        };
+        let dir = to_world.transform_vector3(eye).normalize();
         Some(first_hit(scene, shooter.position, dir, shooter_polygon).map(|(id, _)| id as u32))
     };
     let cpu: Vec<Option<Option<u32>>> = (0..res)
-        .flat_map(|j| (0..res).map(move |i| (i, j)))
+        .flat_map(|j| (0..width).map(move |i| (i, j)))
         .map(|(i, j)| expected(i, j))
         .collect();
     let (mut agree, mut total) = (0u64, 0u64);
     for j in 1..res - 1 {
-        for i in 1..res - 1 {
-            let at = (j * res + i) as usize;
+        for i in 1..width - 1 {
+            if i % res == 0 || i % res == res - 1 {
+                continue; // a hemicube face's border
+            }
+            let at = (j * width + i) as usize;
             let Some(want) = cpu[at] else { continue };
-            let neighbours = [at - 1, at + 1, at - res as usize, at + res as usize];
+            let neighbours = [at - 1, at + 1, at - width as usize, at + width as usize];
             if neighbours.iter().any(|&n| cpu[n] != Some(want)) {
                 continue; // an ID boundary runs through this pixel
             }
@@ -74,7 +96,7 @@ fn item_buffer_from_the_light_of_the_shadow_scene() {
     // Floor 0 (2x2 at y=0), light 1 (at y=2, facing down), occluder 2 (0.6x0.6 at y=1).
     let scene = load("shadow");
     let res = 256;
-    let (agreement, ids) = compare(&scene, 1, 2.0, res);
+    let (agreement, ids) = compare(&scene, 1, 2.0, res, VisibilityKind::Hemisphere);
     println!(
         "shadow scene: {:.4} % of interior pixels agree with the CPU",
         100.0 * agreement
@@ -104,12 +126,33 @@ fn item_buffer_from_the_cornell_light_matches_ray_casting() {
         .iter()
         .position(|p| scene.material(p).is_emitter())
         .unwrap();
-    let (tessellated, _) = compare(&scene, light, 2.0, 256);
-    let (whole, _) = compare(&scene, light, 0.0, 256);
+    let hemisphere = VisibilityKind::Hemisphere;
+    let (tessellated, _) = compare(&scene, light, 2.0, 256, hemisphere);
+    let (whole, _) = compare(&scene, light, 0.0, 256, hemisphere);
+    let (cube, _) = compare(&scene, light, 0.0, 128, VisibilityKind::Hemicube);
     println!(
-        "cornell from the light: tessellated {:.3} %, whole polygons (paper) {:.3} %",
+        "cornell from the light: hemisphere tessellated {:.3} %, whole polygons (paper) {:.3} %; \
+         hemicube {:.3} %",
         100.0 * tessellated,
-        100.0 * whole
+        100.0 * whole,
+        100.0 * cube
     );
     assert!(tessellated > 0.99, "tessellated agreement {tessellated}");
+    assert!(cube > 0.999, "hemicube agreement {cube}");
+}
+
+#[test]
+fn hemicube_from_a_wall_of_the_box() {
+    // From the centre of a wall, the five other faces: every direction hits one of them.
+    let scene = load("box");
+    let (agreement, ids) = compare(&scene, 2, 0.0, 64, VisibilityKind::Hemicube);
+    println!("box from a wall, hemicube: {:.4} %", 100.0 * agreement);
+    assert!(agreement > 0.999, "agreement {agreement}");
+    // The front face's centre looks straight across the box at the opposite wall.
+    let opposite = scene
+        .polygons
+        .iter()
+        .position(|p| p.normal.dot(scene.polygons[2].normal) < -0.99)
+        .unwrap() as u32;
+    assert_eq!(ids[(32 * 5 * 64 + 32) as usize], Some(opposite));
 }

@@ -4,7 +4,7 @@ use crate::display::{self, output};
 use crate::gl::{BackendChoice, GlContext, GlInfo};
 use crate::patches::{PatchLayout, Resolution};
 use crate::scene::{load_obj, Camera};
-use crate::solver::{GpuSolver, ShotRecord, SolveOptions};
+use crate::solver::{FormFactorKind, GpuSolver, ShotRecord, SolveOptions, VisibilityKind};
 use anyhow::{bail, Context, Result};
 use glam::Vec3;
 use std::io::IsTerminal;
@@ -40,17 +40,28 @@ pub struct SolveArgs {
     /// Patch side in scene units.
     #[arg(long)]
     pub patch_size: Option<f32>,
-    /// Item-buffer resolution (pixels per side) of the visibility pass.
-    #[arg(long, default_value_t = 512)]
-    pub hemi_res: u32,
-    /// Longest edge of the visibility pass's triangles, in patch sizes (0: whole polygons, as
-    /// in the paper).
-    #[arg(long, default_value_t = 2.0)]
-    pub tessellate: f32,
+    /// `paper`: the paper's algorithm literally; `accurate`: with the corrections listed in
+    /// paper_notes.md. The four options below override single settings of the mode.
+    #[arg(long, value_enum, default_value_t = Mode::Accurate)]
+    pub mode: Mode,
+    /// Item-buffer resolution (pixels per side; per face for the hemicube). Mode default:
+    /// paper 512, accurate 256.
+    #[arg(long)]
+    pub hemi_res: Option<u32>,
+    /// Longest edge of the visibility pass's triangles, in patch sizes (0: whole polygons).
+    /// Default 0; worth 1-2 with `--visibility hemisphere`, whose projection curves edges.
+    #[arg(long)]
+    pub tessellate: Option<f32>,
     /// Side, in patches, of the cells a polygon shoots from (0: the whole polygon from its
-    /// centroid, as in the paper).
-    #[arg(long, default_value_t = 8)]
-    pub shooter_cell: u32,
+    /// centroid). Mode default: paper 0, accurate 4.
+    #[arg(long)]
+    pub shooter_cell: Option<u32>,
+    /// Form factor: point (paper) or polygon (exact for the shooter's cell).
+    #[arg(long, value_enum)]
+    pub form_factor: Option<FormFactorKind>,
+    /// Visibility pass: hemisphere (paper's hemispherical projection) or hemicube.
+    #[arg(long, value_enum)]
+    pub visibility: Option<VisibilityKind>,
     /// Camera position, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<Vec3>,
@@ -67,6 +78,33 @@ pub struct SolveArgs {
     /// Multiplier applied to radiance before tone mapping image.png.
     #[arg(long, default_value_t = 1.0)]
     pub exposure: f32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    Paper,
+    Accurate,
+}
+
+impl SolveArgs {
+    /// The solver settings: the mode's, with single settings overridden.
+    pub fn options(&self) -> SolveOptions {
+        let base = match self.mode {
+            Mode::Paper => SolveOptions::paper(),
+            Mode::Accurate => SolveOptions::accurate(),
+        };
+        SolveOptions {
+            threshold: self.threshold,
+            max_shots: self.max_shots,
+            hemi_res: self.hemi_res.unwrap_or(base.hemi_res),
+            tessellation: self.tessellate.unwrap_or(base.tessellation),
+            shooter_cell: self.shooter_cell.unwrap_or(base.shooter_cell),
+            form_factor: self.form_factor.unwrap_or(base.form_factor),
+            visibility: self.visibility.unwrap_or(base.visibility),
+            footprint: base.footprint,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
@@ -117,15 +155,14 @@ pub struct Stats {
     pub patch_size: f32,
     pub atlas: [u32; 2],
     pub solver: SolverKind,
-    pub shooter_cell: u32,
+    pub mode: Mode,
     pub backend: &'static str,
     pub gl_vendor: String,
     pub gl_renderer: String,
     pub gl_version: String,
-    pub threshold: f32,
-    pub max_shots: u32,
-    pub hemi_res: u32,
-    pub tessellate: f32,
+    /// threshold, max_shots and the pass settings.
+    #[serde(flatten)]
+    pub options: SolveOptions,
     pub shots: u32,
     /// Visibility + reconstruction pass pairs (one per shooter cell of each shot).
     pub passes: u32,
@@ -196,14 +233,8 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         layout.atlas_height
     );
 
-    let options = SolveOptions {
-        threshold: args.threshold,
-        max_shots: args.max_shots,
-        hemi_res: args.hemi_res,
-        tessellation: args.tessellate,
-        shooter_cell: args.shooter_cell,
-    };
-    let mut solver = GpuSolver::new(&ctx, &scene, &layout, options)?;
+    let options = args.options();
+    let mut solver = GpuSolver::new(&ctx, &scene, &layout, options.clone())?;
     let bar = progress_bar(args.threshold);
     solver.solve(|r| {
         bar.set_position(progress_position(r.unshot_fraction, args.threshold));
@@ -255,15 +286,12 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         patch_size: layout.patch_size,
         atlas: [layout.atlas_width, layout.atlas_height],
         solver: args.solver,
-        shooter_cell: args.shooter_cell,
+        mode: args.mode,
         backend: info.backend.name(),
         gl_vendor: info.vendor.clone(),
         gl_renderer: info.renderer.clone(),
         gl_version: info.version.clone(),
-        threshold: args.threshold,
-        max_shots: args.max_shots,
-        hemi_res: args.hemi_res,
-        tessellate: args.tessellate,
+        options,
         shots: solver.shots(),
         passes: solver.passes,
         solve_seconds,

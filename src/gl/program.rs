@@ -126,6 +126,15 @@ impl Program {
                 .uniform_4_f32(self.location(name).as_ref(), v[0], v[1], v[2], v[3])
         }
     }
+    pub fn set_vec3_array(&self, name: &'static str, v: &[f32]) {
+        unsafe { self.gl.uniform_3_f32_slice(self.location(name).as_ref(), v) }
+    }
+    pub fn set_mat3_array(&self, name: &'static str, m: &[f32]) {
+        unsafe {
+            self.gl
+                .uniform_matrix_3_f32_slice(self.location(name).as_ref(), false, m)
+        }
+    }
     pub fn set_mat4(&self, name: &'static str, m: &[f32; 16]) {
         unsafe {
             self.gl

@@ -41,6 +41,11 @@ impl Lightmap {
         self.origin + self.axis_u * (s / self.w as f32) + self.axis_v * (t / self.h as f32)
     }
 
+    /// World area of one texel.
+    pub fn texel_area(&self) -> f32 {
+        self.axis_u.length() * self.axis_v.length() / (self.w * self.h) as f32
+    }
+
     /// Lightmap texel coordinates (not atlas) of a world point on the polygon's plane.
     pub fn texel_of(&self, p: Vec3) -> Vec2 {
         let d = p - self.origin;
@@ -223,6 +228,45 @@ fn fit_lightmap(vertices: &[Vec3], normal: Vec3, patch_size: f32) -> Lightmap {
         axis_u: u * size.x,
         axis_v: v * size.y,
     }
+}
+
+/// `subject` clipped to the convex, counter-clockwise `clip` polygon (Sutherland–Hodgman), both
+/// in one plane's 2D coordinates. `None` when `clip` is not convex.
+pub fn clip_convex(subject: &[Vec2], clip: &[Vec2]) -> Option<Vec<Vec2>> {
+    let n = clip.len();
+    let turn =
+        |k: usize| (clip[(k + 1) % n] - clip[k]).perp_dot(clip[(k + 2) % n] - clip[(k + 1) % n]);
+    if (0..n).any(|k| turn(k) < -1e-6 * (clip[(k + 1) % n] - clip[k]).length_squared()) {
+        return None;
+    }
+    let mut out: Vec<Vec2> = subject.to_vec();
+    for k in 0..n {
+        let (a, b) = (clip[k], clip[(k + 1) % n]);
+        let side = |p: Vec2| (b - a).perp_dot(p - a);
+        let input = std::mem::take(&mut out);
+        for i in 0..input.len() {
+            let (p, q) = (input[i], input[(i + 1) % input.len()]);
+            let (sp, sq) = (side(p), side(q));
+            if sp >= 0.0 {
+                out.push(p);
+            }
+            if (sp >= 0.0) != (sq >= 0.0) {
+                out.push(p + (q - p) * (sp / (sp - sq)));
+            }
+        }
+        if out.is_empty() {
+            break;
+        }
+    }
+    Some(out)
+}
+
+/// Area of a simple polygon given in 2D (shoelace), positive when counter-clockwise.
+pub fn signed_area(points: &[Vec2]) -> f32 {
+    let n = points.len();
+    0.5 * (0..n)
+        .map(|i| points[i].perp_dot(points[(i + 1) % n]))
+        .sum::<f32>()
 }
 
 /// Even-odd point-in-polygon test in the lightmap plane.

@@ -6,6 +6,7 @@
 //! `mesh.rs` builds the one vertex buffer every pass draws.
 
 pub mod find_max_energy;
+pub mod form_factor;
 pub mod mesh;
 pub mod progressive;
 pub mod reconstruction;
@@ -14,6 +15,26 @@ pub mod visibility;
 pub use progressive::{GpuSolver, SolveError};
 
 use glam::{Mat4, Vec3};
+
+/// Which form factor the reconstruction pass evaluates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FormFactorKind {
+    /// The paper's point factor cos·cos/(π r²) times the shooter's area (blows up near it).
+    Point,
+    /// The exact differential-area-to-polygon factor of the shooter's cell (finite everywhere).
+    Polygon,
+}
+
+/// How the visibility pass sees the scene from the shooter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum VisibilityKind {
+    /// The paper's hemispherical projection: one render, curved edges drawn straight.
+    Hemisphere,
+    /// Five perspective renders (Cohen & Greenberg 1985): exact for straight edges.
+    Hemicube,
+}
 
 /// Stopping rule and pass parameters.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -30,19 +51,55 @@ pub struct SolveOptions {
     /// Side, in patches, of the cells a polygon shoots from; 0 shoots the whole polygon from its
     /// centroid, as the paper does. Typical 8.
     pub shooter_cell: u32,
+    pub form_factor: FormFactorKind,
+    pub visibility: VisibilityKind,
+    /// Count a receiver visible when any of the 2x2 item-buffer pixels around its direction
+    /// holds its ID (instead of the nearest pixel only, as the paper): no dark seams where a
+    /// polygon meets another at a pixel boundary.
+    pub footprint: bool,
 }
 
-impl Default for SolveOptions {
-    fn default() -> Self {
+impl SolveOptions {
+    /// The paper, literally: the whole polygon shoots from its centroid with the point form
+    /// factor, whole polygons drawn through the hemispherical projection, nearest-pixel IDs.
+    pub fn paper() -> Self {
         SolveOptions {
             threshold: 0.01,
             max_shots: 10_000,
             hemi_res: 512,
-            tessellation: 2.0,
-            shooter_cell: 8,
+            tessellation: 0.0,
+            shooter_cell: 0,
+            form_factor: FormFactorKind::Point,
+            visibility: VisibilityKind::Hemisphere,
+            footprint: false,
+        }
+    }
+
+    /// Beyond the paper (see paper_notes.md): cells of 4x4 patches shoot, with the polygon form
+    /// factor; a 256² hemicube (exact for straight edges, so nothing to tessellate) with the 2x2
+    /// ID footprint.
+    pub fn accurate() -> Self {
+        SolveOptions {
+            hemi_res: 256,
+            tessellation: 0.0,
+            shooter_cell: 4,
+            form_factor: FormFactorKind::Polygon,
+            visibility: VisibilityKind::Hemicube,
+            footprint: true,
+            ..Self::paper()
         }
     }
 }
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        Self::accurate()
+    }
+}
+
+/// Most corners a shooter's outline may have (a cell clipped to its polygon; polygons with
+/// more corners shoot their bounding rectangle's cells).
+pub const MAX_CORNERS: usize = 8;
 
 /// A shooter: a polygon, or one cell of its lightmap, shooting its unshot energy from one point
 /// (the paper: the whole polygon from its centre).
@@ -55,6 +112,12 @@ pub struct Shooter {
     pub normal: Vec3,
     /// Unshot radiance times area, RGB (what the shader calls ShootEnergy).
     pub energy: Vec3,
+    /// The shooter's outline (counter-clockwise seen from its front), for the polygon form
+    /// factor: `corners[..corner_count]`.
+    pub corners: [Vec3; MAX_CORNERS],
+    pub corner_count: usize,
+    /// Area of that outline.
+    pub area: f32,
 }
 
 impl Shooter {

@@ -11,14 +11,29 @@
 //! ```
 
 use super::find_max_energy::EnergyTotals;
-use super::reconstruction::ReconstructionPass;
+use super::reconstruction::{Lightmaps, ReconstructionPass};
 use super::visibility::VisibilityPass;
+use super::MAX_CORNERS;
 use super::{mesh, Shooter, ShotRecord, SolveOptions};
-use crate::gl::{GlContext, GlError, Mesh, Texture, TextureFormat};
+use crate::gl::{GlContext, GlError, Mesh};
 use crate::patches::PatchLayout;
+use crate::patches::{clip_convex, signed_area, Lightmap};
 use crate::scene::Scene;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use std::time::Instant;
+
+/// Lightmap-space outline → world corners (padded to MAX_CORNERS), their count and world area.
+fn world_outline(lm: &Lightmap, outline: &[Vec2]) -> ([Vec3; MAX_CORNERS], usize, f32) {
+    let mut corners = [Vec3::ZERO; MAX_CORNERS];
+    for (c, p) in corners.iter_mut().zip(outline) {
+        *c = lm.world(p.x, p.y);
+    }
+    (
+        corners,
+        outline.len().min(MAX_CORNERS),
+        signed_area(outline).abs() * lm.texel_area(),
+    )
+}
 
 #[derive(Debug, thiserror::Error)]
 pub enum SolveError {
@@ -65,8 +80,7 @@ pub struct GpuSolver<'a> {
     visibility_mesh: Mesh,
     pub visibility: VisibilityPass,
     reconstruction: ReconstructionPass,
-    radiosity: Texture,
-    unshot: Texture,
+    lightmaps: Lightmaps,
     options: SolveOptions,
     patch_area: Vec<f64>,
     emitted_power: f64,
@@ -123,28 +137,20 @@ impl<'a> GpuSolver<'a> {
         } else {
             mesh::upload(gl, &mesh::vertex_data(scene, layout))?
         };
-        let visibility = VisibilityPass::new(ctx, options.hemi_res, (hi - lo).length())?;
+        let visibility = VisibilityPass::new(
+            ctx,
+            options.visibility,
+            options.hemi_res,
+            (hi - lo).length(),
+        )?;
         let reconstruction = ReconstructionPass::new(ctx, w as i32, h as i32)?;
-        let radiosity = Texture::new(
-            gl,
-            w as i32,
-            h as i32,
-            TextureFormat::Rgba32F,
-            glow::NEAREST,
-        )?;
-        let unshot = Texture::new(
-            gl,
-            w as i32,
-            h as i32,
-            TextureFormat::Rgba32F,
-            glow::NEAREST,
-        )?;
+        let lightmaps = Lightmaps::new(ctx, w as i32, h as i32)?;
 
         // Initialise: every patch's unshot energy is its emission.
         reconstruction.emit(ctx, &mesh)?;
         let mut scratch = Vec::new();
         reconstruction.read_unshot(&mut scratch);
-        reconstruction.copy_into(ctx, &radiosity, &unshot)?;
+        reconstruction.copy_into(ctx, &lightmaps)?;
         let n = scene.polygons.len();
         let counted = EnergyTotals::sum(&scratch, n, None);
         // Equal shares of the polygon's area, so that Σ patch areas = polygon area exactly.
@@ -169,8 +175,7 @@ impl<'a> GpuSolver<'a> {
             visibility_mesh,
             visibility,
             reconstruction,
-            radiosity,
-            unshot,
+            lightmaps,
             options,
             patch_area,
             emitted_power,
@@ -214,17 +219,33 @@ impl<'a> GpuSolver<'a> {
         let polygon = &self.scene.polygons[p];
         let lm = &self.layout.lightmaps[p];
         let cell = self.options.shooter_cell;
+        let outline: Vec<Vec2> = polygon.vertices.iter().map(|&v| lm.texel_of(v)).collect();
         if cell == 0 {
+            let rect = [
+                Vec2::ZERO,
+                Vec2::new(lm.w as f32, 0.0),
+                Vec2::new(lm.w as f32, lm.h as f32),
+                Vec2::new(0.0, lm.h as f32),
+            ];
+            let corners = if outline.len() <= MAX_CORNERS {
+                &outline[..]
+            } else {
+                &rect[..]
+            };
+            let (corners, corner_count, area) = world_outline(lm, corners);
             return vec![Shooter {
                 polygon: p,
                 texels: [lm.x, lm.y, lm.x + lm.w, lm.y + lm.h],
                 position: polygon.centroid,
                 normal: polygon.normal,
                 energy: self.totals.energy_rgb(p),
+                corners,
+                corner_count,
+                area,
             }];
         }
         let width = self.layout.atlas_width as usize;
-        let area = self.patch_area[p];
+        let patch_area = self.patch_area[p];
         let mut shooters = Vec::new();
         for y0 in (0..lm.h).step_by(cell as usize) {
             for x0 in (0..lm.w).step_by(cell as usize) {
@@ -238,21 +259,38 @@ impl<'a> GpuSolver<'a> {
                             continue;
                         }
                         for c in 0..3 {
-                            energy[c] += texel[c] as f64 * area;
+                            energy[c] += texel[c] as f64 * patch_area;
                         }
                         position += lm.world(s as f32 + 0.5, t as f32 + 0.5);
                         count += 1;
                     }
                 }
-                if count > 0 && energy.iter().any(|&e| e > 0.0) {
-                    shooters.push(Shooter {
-                        polygon: p,
-                        texels: [lm.x + x0, lm.y + y0, lm.x + x1, lm.y + y1],
-                        position: position / count as f32,
-                        normal: polygon.normal,
-                        energy: Vec3::new(energy[0] as f32, energy[1] as f32, energy[2] as f32),
-                    });
+                if count == 0 || energy.iter().all(|&e| e <= 0.0) {
+                    continue;
                 }
+                // The cell's outline: its rectangle clipped to the polygon (the rectangle itself
+                // where the polygon is not convex or the clip has too many corners).
+                let (fx0, fy0, fx1, fy1) = (x0 as f32, y0 as f32, x1 as f32, y1 as f32);
+                let rect = [
+                    Vec2::new(fx0, fy0),
+                    Vec2::new(fx1, fy0),
+                    Vec2::new(fx1, fy1),
+                    Vec2::new(fx0, fy1),
+                ];
+                let clipped = clip_convex(&rect, &outline)
+                    .filter(|c| c.len() >= 3 && c.len() <= MAX_CORNERS && signed_area(c) > 0.0);
+                let (corners, corner_count, area) =
+                    world_outline(lm, clipped.as_deref().unwrap_or(&rect));
+                shooters.push(Shooter {
+                    polygon: p,
+                    texels: [lm.x + x0, lm.y + y0, lm.x + x1, lm.y + y1],
+                    position: position / count as f32,
+                    normal: polygon.normal,
+                    energy: Vec3::new(energy[0] as f32, energy[1] as f32, energy[2] as f32),
+                    corners,
+                    corner_count,
+                    area,
+                });
             }
         }
         shooters
@@ -287,13 +325,12 @@ impl<'a> GpuSolver<'a> {
                 ctx,
                 &self.mesh,
                 &self.visibility.item_buffer,
-                &self.radiosity,
-                &self.unshot,
+                &self.lightmaps,
                 shooter,
+                &self.options,
             )?;
             let t2 = Instant::now();
-            self.reconstruction
-                .copy_into(ctx, &self.radiosity, &self.unshot)?;
+            self.reconstruction.copy_into(ctx, &self.lightmaps)?;
             self.times.visibility += (t1 - t).as_secs_f64();
             self.times.reconstruction += (t2 - t1).as_secs_f64();
             self.times.accumulation += t2.elapsed().as_secs_f64();
@@ -336,7 +373,7 @@ impl<'a> GpuSolver<'a> {
     /// The accumulated radiance atlas, RGBA (alpha: polygon ID + 1), rows bottom to top.
     pub fn radiosity_atlas(&self) -> Vec<f32> {
         let mut out = Vec::new();
-        self.radiosity.read_f32(&mut out);
+        self.lightmaps.radiosity.read_f32(&mut out);
         out
     }
 

@@ -8,14 +8,42 @@
 //! it reads from the texture, and the copy replaces the texture with the sum: same result.
 
 use super::mesh::ATTRIBUTES;
-use super::Shooter;
-use crate::gl::{Framebuffer, GlContext, GlError, Mesh, Program, Renderbuffer, Texture};
+use super::visibility::face_rotations;
+use super::{FormFactorKind, Shooter, SolveOptions, VisibilityKind};
+use crate::gl::{
+    Framebuffer, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
+};
 use crate::glsl;
 use glow::HasContext;
 
 pub const NAME: &str = "reconstruction";
 pub const INIT_NAME: &str = "initialisation";
 pub const COPY_NAME: &str = "accumulation";
+
+/// The two lightmap atlases of section 3.1: accumulated and unshot radiance (RGBA32F, alpha =
+/// polygon ID + 1), which the reconstruction pass reads and its copies replace.
+pub struct Lightmaps {
+    pub radiosity: Texture,
+    pub unshot: Texture,
+}
+
+impl Lightmaps {
+    pub fn new(ctx: &GlContext, width: i32, height: i32) -> Result<Self, GlError> {
+        let make = || {
+            Texture::new(
+                &ctx.gl,
+                width,
+                height,
+                TextureFormat::Rgba32F,
+                glow::NEAREST,
+            )
+        };
+        Ok(Lightmaps {
+            radiosity: make()?,
+            unshot: make()?,
+        })
+    }
+}
 
 pub struct ReconstructionPass {
     program: Program,
@@ -95,15 +123,15 @@ impl ReconstructionPass {
         ctx: &GlContext,
         mesh: &Mesh,
         item_buffer: &Texture,
-        radiosity: &Texture,
-        unshot: &Texture,
+        lightmaps: &Lightmaps,
         shooter: &Shooter,
+        options: &SolveOptions,
     ) -> Result<(), GlError> {
         self.begin(ctx);
         self.program.use_program();
         item_buffer.bind(0);
-        radiosity.bind(1);
-        unshot.bind(2);
+        lightmaps.radiosity.bind(1);
+        lightmaps.unshot.bind(2);
         self.program.set_i32("HemiItemBuffer", 0);
         self.program.set_i32("Radiosity", 1);
         self.program.set_i32("Unshot", 2);
@@ -118,6 +146,25 @@ impl ReconstructionPass {
         self.program.set_f32("ShooterId", shooter.polygon as f32);
         self.program
             .set_vec4("ShooterTexels", shooter.texels.map(|v| v as f32));
+        let p = &self.program;
+        p.set_i32(
+            "FormFactorKind",
+            (options.form_factor == FormFactorKind::Polygon) as i32,
+        );
+        let corners: Vec<f32> = shooter.corners.iter().flat_map(|c| c.to_array()).collect();
+        p.set_vec3_array("ShootCorners", &corners);
+        p.set_i32("ShootCornerCount", shooter.corner_count as i32);
+        p.set_f32("ShootArea", shooter.area);
+        p.set_i32(
+            "HemiCube",
+            (options.visibility == VisibilityKind::Hemicube) as i32,
+        );
+        let rotations: Vec<f32> = face_rotations()
+            .iter()
+            .flat_map(|m| m.to_cols_array())
+            .collect();
+        p.set_mat3_array("FaceRotation", &rotations);
+        p.set_i32("Footprint", options.footprint as i32);
         mesh.draw();
         unsafe {
             ctx.gl.active_texture(glow::TEXTURE0);
@@ -138,14 +185,11 @@ impl ReconstructionPass {
     }
 
     /// The paper's accumulation: glCopyTexSubImage2D from the renderbuffers into the lightmaps.
-    pub fn copy_into(
-        &self,
-        ctx: &GlContext,
-        radiosity: &Texture,
-        unshot: &Texture,
-    ) -> Result<(), GlError> {
-        self.fbo.copy_to_texture(glow::COLOR_ATTACHMENT0, radiosity);
-        self.fbo.copy_to_texture(glow::COLOR_ATTACHMENT1, unshot);
+    pub fn copy_into(&self, ctx: &GlContext, lightmaps: &Lightmaps) -> Result<(), GlError> {
+        self.fbo
+            .copy_to_texture(glow::COLOR_ATTACHMENT0, &lightmaps.radiosity);
+        self.fbo
+            .copy_to_texture(glow::COLOR_ATTACHMENT1, &lightmaps.unshot);
         unsafe {
             ctx.gl.read_buffer(glow::COLOR_ATTACHMENT0);
             ctx.gl.bind_framebuffer(glow::FRAMEBUFFER, None);

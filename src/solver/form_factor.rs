@@ -1,0 +1,120 @@
+//! Form factors on the CPU: the same formulas the reconstruction shader evaluates (tests hold the
+//! GPU against these, and the CPU solver uses them).
+//!
+//! - `point`: the paper's F = max(cos θ_i cos θ_j, 0) / (π r²), per unit shooter area.
+//! - `polygon`: the exact factor from a differential receiver area to a polygon (Lambert's
+//!   contour formula), after clipping the polygon to the receiver's side of its tangent plane.
+//!   It stays finite however close the receiver is, which the point factor does not.
+
+use glam::Vec3;
+use std::f32::consts::PI;
+
+/// Point-to-point kernel cos θ_i cos θ_j / (π r²): multiply by the shooter's area for a factor.
+pub fn point(receiver: Vec3, receiver_normal: Vec3, shooter: Vec3, shooter_normal: Vec3) -> f32 {
+    let r = shooter - receiver;
+    let d2 = r.dot(r);
+    let r = r / d2.sqrt();
+    (receiver_normal.dot(r) * -shooter_normal.dot(r)).max(0.0) / (PI * d2)
+}
+
+/// Factor from a differential area at `x` (normal `n`) to the convex polygon `corners` (normal
+/// `polygon_normal`); 0 when `x` is behind the polygon.
+pub fn polygon(x: Vec3, n: Vec3, corners: &[Vec3], polygon_normal: Vec3) -> f32 {
+    if polygon_normal.dot(x - corners[0]) <= 0.0 {
+        return 0.0;
+    }
+    // Clip to the receiver's hemisphere (Sutherland–Hodgman against its tangent plane).
+    let mut clipped: Vec<Vec3> = Vec::with_capacity(corners.len() + 1);
+    for k in 0..corners.len() {
+        let a = corners[k] - x;
+        let b = corners[(k + 1) % corners.len()] - x;
+        let (da, db) = (a.dot(n), b.dot(n));
+        if da > 0.0 {
+            clipped.push(a);
+        }
+        if (da > 0.0) != (db > 0.0) {
+            clipped.push(a + (b - a) * (da / (da - db)));
+        }
+    }
+    let m = clipped.len();
+    if m < 3 {
+        return 0.0;
+    }
+    let mut sum = 0.0;
+    for k in 0..m {
+        let a = clipped[k].normalize();
+        let b = clipped[(k + 1) % m].normalize();
+        let c = a.cross(b);
+        let len = c.length();
+        if len > 1e-12 {
+            sum += a.dot(b).clamp(-1.0, 1.0).acos() * (c / len).dot(n);
+        }
+    }
+    (sum.abs() / (2.0 * PI)).min(1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// CONVENTIONS.md: differential area parallel to a rectangle, normal through a corner.
+    fn corner_factor(a: f32, b: f32, c: f32) -> f32 {
+        let (aa, bb) = (a / c, b / c);
+        let (sa, sb) = ((1.0 + aa * aa).sqrt(), (1.0 + bb * bb).sqrt());
+        (aa / sa * (bb / sa).atan() + bb / sb * (aa / sb).atan()) / (2.0 * PI)
+    }
+
+    fn square(c: f32) -> Vec<Vec3> {
+        // Facing down (-z) at height c, seen from the origin below: counter-clockwise from below.
+        vec![
+            Vec3::new(0., 0., c),
+            Vec3::new(0., 1., c),
+            Vec3::new(1., 1., c),
+            Vec3::new(1., 0., c),
+        ]
+    }
+
+    #[test]
+    fn matches_the_closed_forms() {
+        let f = polygon(Vec3::ZERO, Vec3::Z, &square(1.0), Vec3::NEG_Z);
+        assert!((f - 0.13853).abs() < 1e-4, "{f}");
+        assert!((corner_factor(1.0, 1.0, 1.0) - 0.13853).abs() < 1e-4);
+        let centred: Vec<Vec3> = square(1.0)
+            .iter()
+            .map(|p| *p - Vec3::new(0.5, 0.5, 0.0))
+            .collect();
+        assert!((polygon(Vec3::ZERO, Vec3::Z, &centred, Vec3::NEG_Z) - 0.23946).abs() < 1e-4);
+        let near: Vec<Vec3> = centred
+            .iter()
+            .map(|p| *p - Vec3::new(0.0, 0.0, 0.5))
+            .collect();
+        assert!((polygon(Vec3::ZERO, Vec3::Z, &near, Vec3::NEG_Z) - 0.55413).abs() < 1e-4);
+        // Behind the polygon: nothing.
+        assert_eq!(
+            polygon(Vec3::new(0.0, 0.0, 2.0), Vec3::Z, &square(1.0), Vec3::NEG_Z),
+            0.0
+        );
+    }
+
+    #[test]
+    fn clipping_keeps_a_perpendicular_neighbour_finite() {
+        // A receiver on the floor right next to a wall: finite, below the 1/2 of a half-space.
+        let wall = [
+            Vec3::new(0., 0., 0.),
+            Vec3::new(0., 0., 1.),
+            Vec3::new(0., 1., 1.),
+            Vec3::new(0., 1., 0.),
+        ];
+        let f = polygon(Vec3::new(0.001, 0.0, 0.5), Vec3::Y, &wall, Vec3::X);
+        assert!(f > 0.45 && f < 0.5, "{f}");
+        // The point factor of a unit-area shooter 5 cm away is over 30: energy out of nothing.
+        assert!(
+            point(
+                Vec3::new(0.05, 0.0, 0.5),
+                Vec3::Y,
+                Vec3::new(0.0, 0.05, 0.5),
+                Vec3::X
+            ) > 30.0
+        );
+    }
+}
