@@ -1,10 +1,13 @@
 #version 130
-// Visibility pass, fragment stage: write the polygon's ID as a colour (the item buffer).
+// Visibility pass, fragment stage: write the polygon's ID as a colour (the item buffer), and
+// the distance from the shooter beside it (used by the robust visibility test).
 // ID + 1 is spread over the red, green and blue bytes so 0 means "no polygon" and up to 2^24 - 1
 // polygons are told apart exactly in an RGBA8 texture.
 
 flat in float ItemId;
+in vec3 EyePos;
 out vec4 Color;
+out float Distance;
 
 vec4 encode_id(float id)
 {
@@ -15,4 +18,5 @@ vec4 encode_id(float id)
 void main()
 {
     Color = encode_id(ItemId);
+    Distance = length(EyePos);
 }

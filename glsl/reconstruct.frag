@@ -21,13 +21,14 @@ uniform float ShooterId;
 uniform vec4 ShooterTexels;        // [x0, y0, x1, y1) atlas texels whose unshot energy is shot
 
 uniform int FormFactorKind;        // 0: point (paper), 1: polygon (exact, finite)
-uniform vec3 ShootCorners[8];      // the shooter's outline, counter-clockwise from its front
+uniform vec3 ShootCorners[12];     // the shooter's outline, counter-clockwise from its front
 uniform int ShootCornerCount;
 uniform float ShootArea;           // area of that outline
 
 uniform int HemiCube;              // 0: hemispherical projection (paper), 1: hemicube
 uniform mat3 FaceRotation[5];      // hemicube faces: shooter eye space -> face eye space
-uniform int Footprint;             // 0: nearest item-buffer pixel (paper), 1: any of the 2x2
+uniform int Robust;                // 0: nearest pixel's ID (paper); 1: 2x2 IDs or distance
+uniform sampler2D HemiDistance;    // distance from the shooter to what each pixel shows
 
 out vec4 NewRadiosity;
 out vec4 NewUnshot;
@@ -74,8 +75,12 @@ bool Visible()
         return false;
     vec2 uv = item_coordinates(d);
     vec3 want = floor(encode_id(RecvId).rgb * 255.0 + 0.5);
-    if (Footprint == 0)
+    if (Robust == 0)
         return same_id(uv, want);
+    // Nothing nearer than the receiver in its pixel: visible, even where the receiver is too
+    // small to own a pixel. The tolerance (0.5 % of the distance) covers the pixel's extent.
+    if (length(d) <= texture(HemiDistance, uv).r * 1.005)
+        return true;
     // The 2x2 pixels around uv: a patch whose direction falls next to its polygon's edge in
     // the item buffer still finds itself (no dark seams at joints).
     vec2 size = vec2(textureSize(HemiItemBuffer, 0));
@@ -90,7 +95,7 @@ float PolygonFormFactor()
 {
     if (dot(ShootNormal, RecvPos - ShootCorners[0]) <= 0.0)
         return 0.0;
-    vec3 clipped[9];
+    vec3 clipped[13];
     int m = 0;
     for (int k = 0; k < ShootCornerCount; ++k) {
         vec3 a = ShootCorners[k] - RecvPos;

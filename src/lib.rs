@@ -13,3 +13,4 @@ pub mod gl;
 pub mod patches;
 pub mod scene;
 pub mod solver;
+pub mod validate;

@@ -56,7 +56,7 @@ fn check_one_shot(shooter_cell: u32, kind: FormFactorKind) {
     let options = SolveOptions {
         shooter_cell,
         form_factor: kind,
-        footprint: false,
+        robust_visibility: false,
         ..SolveOptions::accurate()
     };
     let mut solver = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();

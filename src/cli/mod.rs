@@ -1,6 +1,7 @@
 //! The command line: one file per subcommand.
 
 mod solve;
+mod validate;
 
 use clap::{Parser, Subcommand};
 
@@ -21,10 +22,13 @@ pub struct Cli {
 pub enum Command {
     /// Solve a scene and write image.png, image.exr, lightmap.exr and stats.json.
     Solve(SolveArgs),
+    /// Check the solver against closed forms, the furnace and a direct solve; print the table.
+    Validate(validate::ValidateArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Solve(args) => run_solve(&args).map(|_| ()),
+        Command::Validate(args) => validate::run_validate(&args),
     }
 }

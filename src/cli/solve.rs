@@ -75,6 +75,10 @@ pub struct SolveArgs {
     /// Image size, WxH.
     #[arg(long, value_parser = parse_size, default_value = "512x512")]
     pub size: (u32, u32),
+    /// Show an unconverged solution with Cohen et al.'s (1988) ambient term added (images only;
+    /// lightmap.exr stays the solver's answer).
+    #[arg(long)]
+    pub ambient: bool,
     /// Multiplier applied to radiance before tone mapping image.png.
     #[arg(long, default_value_t = 1.0)]
     pub exposure: f32,
@@ -102,7 +106,7 @@ impl SolveArgs {
             shooter_cell: self.shooter_cell.unwrap_or(base.shooter_cell),
             form_factor: self.form_factor.unwrap_or(base.form_factor),
             visibility: self.visibility.unwrap_or(base.visibility),
-            footprint: base.footprint,
+            robust_visibility: base.robust_visibility,
         }
     }
 }
@@ -169,6 +173,8 @@ pub struct Stats {
     pub solve_seconds: f64,
     pub unshot_fraction: f64,
     pub emitted_power: f64,
+    /// The ambient radiance added to the images (with --ambient), RGB.
+    pub ambient: Option<[f32; 3]>,
     pub pass_seconds: crate::solver::progressive::PassTimes,
     pub history: Vec<ShotRecord>,
 }
@@ -253,6 +259,17 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     let mut atlas = solver.radiosity_atlas();
     let camera = camera_from(args, scene.camera_or_default());
     let raw_atlas = atlas.clone();
+    let ambient = if args.ambient {
+        let areas: Vec<f64> = (0..scene.polygons.len())
+            .map(|p| solver.patch_area(p))
+            .collect();
+        let l = display::ambient::ambient(&scene, solver.unshot_atlas(), &areas);
+        display::ambient::add_ambient(&scene, &mut atlas, l);
+        eprintln!("ambient term: {:.5} {:.5} {:.5}", l.x, l.y, l.z);
+        Some(l.to_array())
+    } else {
+        None
+    };
     layout.dilate(&mut atlas);
     let image = display::render(
         &ctx,
@@ -297,6 +314,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         solve_seconds,
         unshot_fraction: solver.unshot_fraction(),
         emitted_power: solver.emitted_power(),
+        ambient,
         pass_seconds: solver.times.clone(),
         history: solver.history.clone(),
     };

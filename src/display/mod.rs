@@ -1,6 +1,7 @@
 //! Display (paper 3.2.2, end of step 5): the whole scene drawn from a camera with the packed
 //! lightmap atlas, and the result written as images.
 
+pub mod ambient;
 pub mod output;
 mod render;
 

@@ -10,6 +10,8 @@ pub enum TextureFormat {
     Rgba32F,
     /// The item buffer: polygon IDs as 8-bit colours, exactly as in the paper.
     Rgba8,
+    /// One float per texel (the visibility pass's distances).
+    R32F,
 }
 
 impl TextureFormat {
@@ -17,11 +19,12 @@ impl TextureFormat {
         match self {
             TextureFormat::Rgba32F => glow::RGBA32F,
             TextureFormat::Rgba8 => glow::RGBA8,
+            TextureFormat::R32F => glow::R32F,
         }
     }
     fn pixel_type(self) -> u32 {
         match self {
-            TextureFormat::Rgba32F => glow::FLOAT,
+            TextureFormat::Rgba32F | TextureFormat::R32F => glow::FLOAT,
             TextureFormat::Rgba8 => glow::UNSIGNED_BYTE,
         }
     }
@@ -84,10 +87,11 @@ impl Texture {
     }
 
     fn bytes(width: i32, height: i32, format: TextureFormat) -> usize {
-        let texel = if format == TextureFormat::Rgba32F {
-            16
-        } else {
+        // Uploads always use RGBA sources: four floats, or four bytes for RGBA8.
+        let texel = if format == TextureFormat::Rgba8 {
             4
+        } else {
+            16
         };
         width as usize * height as usize * texel
     }

@@ -53,10 +53,11 @@ pub struct SolveOptions {
     pub shooter_cell: u32,
     pub form_factor: FormFactorKind,
     pub visibility: VisibilityKind,
-    /// Count a receiver visible when any of the 2x2 item-buffer pixels around its direction
-    /// holds its ID (instead of the nearest pixel only, as the paper): no dark seams where a
-    /// polygon meets another at a pixel boundary.
-    pub footprint: bool,
+    /// Robust visibility: a receiver is visible when any of the 2x2 item-buffer pixels around
+    /// its direction holds its ID, or when it is no farther than what its pixel shows (a distance
+    /// buffer beside the IDs). The paper tests the nearest pixel's ID only, which misses
+    /// receivers smaller than a pixel and darkens joints where polygons meet.
+    pub robust_visibility: bool,
 }
 
 impl SolveOptions {
@@ -71,13 +72,13 @@ impl SolveOptions {
             shooter_cell: 0,
             form_factor: FormFactorKind::Point,
             visibility: VisibilityKind::Hemisphere,
-            footprint: false,
+            robust_visibility: false,
         }
     }
 
     /// Beyond the paper (see paper_notes.md): cells of 4x4 patches shoot, with the polygon form
     /// factor; a 256² hemicube (exact for straight edges, so nothing to tessellate) with the 2x2
-    /// ID footprint.
+    /// ID footprint and the distance test.
     pub fn accurate() -> Self {
         SolveOptions {
             hemi_res: 256,
@@ -85,7 +86,7 @@ impl SolveOptions {
             shooter_cell: 4,
             form_factor: FormFactorKind::Polygon,
             visibility: VisibilityKind::Hemicube,
-            footprint: true,
+            robust_visibility: true,
             ..Self::paper()
         }
     }
@@ -97,9 +98,9 @@ impl Default for SolveOptions {
     }
 }
 
-/// Most corners a shooter's outline may have (a cell clipped to its polygon; polygons with
-/// more corners shoot their bounding rectangle's cells).
-pub const MAX_CORNERS: usize = 8;
+/// Most corners a shooter's outline may have (a cell clipped to its polygon, or a whole polygon);
+/// a shooter with more uses its bounding rectangle instead.
+pub const MAX_CORNERS: usize = 12;
 
 /// A shooter: a polygon, or one cell of its lightmap, shooting its unshot energy from one point
 /// (the paper: the whole polygon from its centre).

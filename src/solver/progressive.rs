@@ -324,7 +324,7 @@ impl<'a> GpuSolver<'a> {
             self.reconstruction.run(
                 ctx,
                 &self.mesh,
-                &self.visibility.item_buffer,
+                &self.visibility,
                 &self.lightmaps,
                 shooter,
                 &self.options,

@@ -8,7 +8,7 @@
 //! it reads from the texture, and the copy replaces the texture with the sum: same result.
 
 use super::mesh::ATTRIBUTES;
-use super::visibility::face_rotations;
+use super::visibility::{face_rotations, VisibilityPass};
 use super::{FormFactorKind, Shooter, SolveOptions, VisibilityKind};
 use crate::gl::{
     Framebuffer, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
@@ -122,14 +122,15 @@ impl ReconstructionPass {
         &self,
         ctx: &GlContext,
         mesh: &Mesh,
-        item_buffer: &Texture,
+        visibility: &VisibilityPass,
         lightmaps: &Lightmaps,
         shooter: &Shooter,
         options: &SolveOptions,
     ) -> Result<(), GlError> {
         self.begin(ctx);
         self.program.use_program();
-        item_buffer.bind(0);
+        visibility.item_buffer.bind(0);
+        visibility.distance.bind(3);
         lightmaps.radiosity.bind(1);
         lightmaps.unshot.bind(2);
         self.program.set_i32("HemiItemBuffer", 0);
@@ -164,7 +165,8 @@ impl ReconstructionPass {
             .flat_map(|m| m.to_cols_array())
             .collect();
         p.set_mat3_array("FaceRotation", &rotations);
-        p.set_i32("Footprint", options.footprint as i32);
+        p.set_i32("Robust", options.robust_visibility as i32);
+        p.set_i32("HemiDistance", 3);
         mesh.draw();
         unsafe {
             ctx.gl.active_texture(glow::TEXTURE0);

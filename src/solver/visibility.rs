@@ -26,6 +26,8 @@ pub struct VisibilityPass {
     pub kind: VisibilityKind,
     /// The item buffer: RGBA8, ID + 1 in RGB (0 = nothing seen).
     pub item_buffer: Texture,
+    /// Distance from the shooter to what each pixel shows (R32F; cleared to "infinitely far").
+    pub distance: Texture,
     _depth: Renderbuffer,
     fbo: Framebuffer,
     resolution: i32,
@@ -65,7 +67,7 @@ impl VisibilityPass {
             vertex,
             glsl!("itembuffer.frag"),
             ATTRIBUTES,
-            &[(0, "Color")],
+            &[(0, "Color"), (1, "Distance")],
         )?;
         let res = resolution as i32;
         let width = if kind == VisibilityKind::Hemicube {
@@ -75,9 +77,11 @@ impl VisibilityPass {
         };
         // NEAREST: an ID must never be blended with its neighbour's.
         let item_buffer = Texture::new(gl, width, res, TextureFormat::Rgba8, glow::NEAREST)?;
+        let distance = Texture::new(gl, width, res, TextureFormat::R32F, glow::NEAREST)?;
         let depth = Renderbuffer::new(gl, glow::DEPTH_COMPONENT24, width, res)?;
         let fbo = Framebuffer::new(gl)?;
         fbo.attach_texture(glow::COLOR_ATTACHMENT0, &item_buffer);
+        fbo.attach_texture(glow::COLOR_ATTACHMENT1, &distance);
         fbo.attach_renderbuffer(glow::DEPTH_ATTACHMENT, &depth);
         fbo.check_complete(NAME)?;
         unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
@@ -89,6 +93,7 @@ impl VisibilityPass {
             program,
             kind,
             item_buffer,
+            distance,
             _depth: depth,
             fbo,
             resolution: res,
@@ -101,7 +106,7 @@ impl VisibilityPass {
         self.fbo.bind();
         unsafe {
             gl.viewport(0, 0, self.item_buffer.width, self.item_buffer.height);
-            gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
+            gl.draw_buffers(&[glow::COLOR_ATTACHMENT0, glow::COLOR_ATTACHMENT1]);
             gl.disable(glow::BLEND);
             gl.disable(glow::SCISSOR_TEST);
             // Back faces occlude too: a wall seen from behind is still a wall.
@@ -109,16 +114,17 @@ impl VisibilityPass {
             gl.enable(glow::DEPTH_TEST);
             gl.depth_func(glow::LESS);
             gl.depth_mask(true);
-            gl.clear_color(0.0, 0.0, 0.0, 0.0);
+            gl.clear_buffer_f32_slice(glow::COLOR, 0, &[0.0; 4]);
+            gl.clear_buffer_f32_slice(glow::COLOR, 1, &[f32::MAX, 0.0, 0.0, 0.0]);
             gl.clear_depth_f64(1.0);
-            gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
+            gl.clear(glow::DEPTH_BUFFER_BIT);
         }
         self.program.use_program();
         self.program.set_f32("ShooterId", shooter.polygon as f32);
         let view = shooter.view();
+        self.program.set_mat4("ShooterView", &view.to_cols_array());
         match self.kind {
             VisibilityKind::Hemisphere => {
-                self.program.set_mat4("ShooterView", &view.to_cols_array());
                 self.program.set_vec2("NearFar", self.near_far);
                 mesh.draw();
             }
