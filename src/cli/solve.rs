@@ -270,7 +270,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     } else {
         None
     };
-    layout.dilate(&mut atlas);
+    layout.dilate_buried(&mut atlas);
     let image = display::render(
         &ctx,
         &scene,

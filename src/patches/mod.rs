@@ -140,8 +140,27 @@ impl PatchLayout {
     /// neighbouring patch texels of the same polygon, so that bilinear filtering at display time
     /// never mixes in black or another polygon's light.
     pub fn dilate(&self, rgba: &mut [f32]) {
+        self.dilate_from(rgba, self.owner.clone());
+    }
+
+    /// Like `dilate`, but patches that are exactly black in a lit polygon count as holes too:
+    /// after a solve those are patches nothing ever reached (a floor under a block), and
+    /// filtering them into their visible neighbours would draw a dark seam along the joint.
+    pub fn dilate_buried(&self, rgba: &mut [f32]) {
+        let mut lit = vec![false; self.lightmaps.len() + 1];
+        for (texel, &o) in rgba.chunks_exact(4).zip(&self.owner) {
+            lit[o as usize] |= texel[..3].iter().any(|&v| v > 0.0);
+        }
+        let mask = rgba
+            .chunks_exact(4)
+            .zip(&self.owner)
+            .map(|(t, &o)| if lit[o as usize] && t[..3].iter().all(|&v| v == 0.0) { 0 } else { o })
+            .collect();
+        self.dilate_from(rgba, mask);
+    }
+
+    fn dilate_from(&self, rgba: &mut [f32], mut filled: Vec<u32>) {
         let w = self.atlas_width as i64;
-        let mut filled: Vec<u32> = self.owner.clone();
         for (index, lm) in self.lightmaps.iter().enumerate() {
             let id = index as u32 + 1;
             // Three rounds fill the gutter and texels up to two texels from a patch centre.

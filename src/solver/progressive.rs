@@ -250,7 +250,9 @@ impl<'a> GpuSolver<'a> {
         for y0 in (0..lm.h).step_by(cell as usize) {
             for x0 in (0..lm.w).step_by(cell as usize) {
                 let (x1, y1) = ((x0 + cell).min(lm.w), (y0 + cell).min(lm.h));
-                let (mut energy, mut position, mut count) = ([0f64; 3], Vec3::ZERO, 0u32);
+                // Shoot from the cell's energy-weighted centre: patches with nothing to shoot (e.g.
+                // buried under a block standing on the floor) do not move the shooter under it.
+                let (mut energy, mut position, mut weight) = ([0f64; 3], Vec3::ZERO, 0f32);
                 for t in y0..y1 {
                     for s in x0..x1 {
                         let at = ((lm.y + t) as usize * width + (lm.x + s) as usize) * 4;
@@ -261,11 +263,12 @@ impl<'a> GpuSolver<'a> {
                         for c in 0..3 {
                             energy[c] += texel[c] as f64 * patch_area;
                         }
-                        position += lm.world(s as f32 + 0.5, t as f32 + 0.5);
-                        count += 1;
+                        let w = texel[0] + texel[1] + texel[2];
+                        position += w * lm.world(s as f32 + 0.5, t as f32 + 0.5);
+                        weight += w;
                     }
                 }
-                if count == 0 || energy.iter().all(|&e| e <= 0.0) {
+                if weight <= 0.0 {
                     continue;
                 }
                 // The cell's outline: its rectangle clipped to the polygon (the rectangle itself
@@ -284,7 +287,7 @@ impl<'a> GpuSolver<'a> {
                 shooters.push(Shooter {
                     polygon: p,
                     texels: [lm.x + x0, lm.y + y0, lm.x + x1, lm.y + y1],
-                    position: position / count as f32,
+                    position: position / weight,
                     normal: polygon.normal,
                     energy: Vec3::new(energy[0] as f32, energy[1] as f32, energy[2] as f32),
                     corners,
