@@ -20,6 +20,8 @@ pub enum BackendChoice {
 pub enum BackendKind {
     Egl,
     Osmesa,
+    /// A context made by someone else (the interactive viewer's window).
+    Window,
 }
 
 impl BackendKind {
@@ -27,6 +29,7 @@ impl BackendKind {
         match self {
             BackendKind::Egl => "egl",
             BackendKind::Osmesa => "osmesa",
+            BackendKind::Window => "window",
         }
     }
 }
@@ -57,6 +60,7 @@ pub struct NoDriver {
 enum Keep {
     Egl(#[allow(dead_code)] egl::EglContext),
     Osmesa(#[allow(dead_code)] osmesa::OsMesaContext),
+    External(#[allow(dead_code)] Box<dyn std::any::Any>),
 }
 
 /// A current GL context. GL objects made with `gl` must be dropped before this value.
@@ -79,6 +83,7 @@ impl GlContext {
             let made = match kind {
                 BackendKind::Egl => egl::create().map(|(k, gl)| (Keep::Egl(k), gl)),
                 BackendKind::Osmesa => osmesa::create().map(|(k, gl)| (Keep::Osmesa(k), gl)),
+                BackendKind::Window => unreachable!("not a headless backend"),
             };
             match made {
                 Ok((keep, gl)) => match Self::finish(kind, keep, gl) {
@@ -91,6 +96,12 @@ impl GlContext {
         Err(NoDriver {
             tried: tried.join("; "),
         })
+    }
+
+    /// Wrap a context that is already current (e.g. a window's), so the same passes run on it.
+    /// `keep` is held until this value is dropped (put the window's context in it).
+    pub fn from_current(gl: glow::Context, keep: Box<dyn std::any::Any>) -> Result<GlContext, String> {
+        Self::finish(BackendKind::Window, Keep::External(keep), gl)
     }
 
     fn finish(kind: BackendKind, keep: Keep, mut gl: glow::Context) -> Result<GlContext, String> {
