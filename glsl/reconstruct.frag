@@ -121,20 +121,24 @@ float PolygonFormFactor()
     return min(abs(sum) / (2.0 * pi), 1.0);
 }
 
-// Code 2: form factor and received energy.
+// Code 2: form factor and received energy. The visibility lookup (code 1) comes last, only
+// where the form factor is not zero: most receivers of a shot face away or lie behind it.
 vec3 FormFactorEnergy()
 {
-    if (!Visible())
+    float F;
+    if (FormFactorKind == 1) {
+        F = PolygonFormFactor() / ShootArea;
+    } else {
+        vec3 r = ShootPos - RecvPos;
+        float distance = dot(r, r);
+        r = normalize(r);
+        float cosi = dot(RecvNormal, r);
+        float cosj = -dot(ShootNormal, r);
+        F = max(cosi * cosj, 0.0) / (pi * distance);
+    }
+    if (F <= 0.0 || !Visible())
         return vec3(0.0);
-    if (FormFactorKind == 1)
-        return ShootEnergy / ShootArea * RecvColor * PolygonFormFactor();
-    vec3 r = ShootPos - RecvPos;
-    float distance = dot(r, r);
-    r = normalize(r);
-    float cosi = dot(RecvNormal, r);
-    float cosj = -dot(ShootNormal, r);
-    float Fij = max(cosi * cosj, 0.0) / (pi * distance);
-    return ShootEnergy * RecvColor * Fij;
+    return ShootEnergy * RecvColor * F;
 }
 
 void main()

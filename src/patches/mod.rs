@@ -71,6 +71,26 @@ pub struct PatchLayout {
     pub patches_per_polygon: Vec<u32>,
 }
 
+/// The largest atlas side, in texels (the GL_MAX_TEXTURE_SIZE of most drivers, Mesa's included;
+/// the GPU solver also checks the driver's own limit).
+pub const MAX_ATLAS_SIDE: u32 = 16384;
+
+#[derive(Debug, thiserror::Error)]
+pub enum LayoutError {
+    #[error(
+        "polygon {polygon} (object '{object}') would need a {w}x{h} lightmap at patch size {size}, \
+         more than an atlas of {max}x{max} can hold; the smallest patch size that fits is about \
+         {suggest:.4} scene units"
+    )]
+    Lightmap { polygon: usize, object: String, w: u32, h: u32, size: f32, max: u32, suggest: f32 },
+    #[error(
+        "the lightmap atlas would be {w}x{h} texels at patch size {size}, more than {max}x{max}; \
+         the smallest patch size that fits is about {suggest:.4} scene units (--patch-size), or \
+         ask for fewer --patches"
+    )]
+    Atlas { w: u32, h: u32, size: f32, max: u32, suggest: f32 },
+}
+
 /// How finely to cut the polygons into patches.
 #[derive(Clone, Copy, Debug)]
 pub enum Resolution {
@@ -81,18 +101,49 @@ pub enum Resolution {
 }
 
 impl PatchLayout {
+    /// The layout of a scene whose atlas is known to fit (tests, generated scenes). User input
+    /// goes through [`PatchLayout::try_new`].
     pub fn new(scene: &Scene, resolution: Resolution) -> PatchLayout {
+        Self::try_new(scene, resolution).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// The layout, or an error (before anything large is allocated) when the atlas would not fit
+    /// in a `MAX_ATLAS_SIDE`² texture.
+    pub fn try_new(scene: &Scene, resolution: Resolution) -> Result<PatchLayout, LayoutError> {
         let patch_size = match resolution {
             Resolution::PatchSize(s) => s,
             Resolution::Patches(n) => size_for_count(scene, n),
         };
-        let mut lightmaps: Vec<Lightmap> = scene
-            .polygons
-            .iter()
-            .map(|p| fit_lightmap(&p.vertices, p.normal, patch_size))
-            .collect();
+        let max = MAX_ATLAS_SIDE;
+        let mut lightmaps: Vec<Lightmap> = Vec::with_capacity(scene.polygons.len());
+        for (i, p) in scene.polygons.iter().enumerate() {
+            let lm = fit_lightmap(&p.vertices, p.normal, patch_size);
+            if lm.w > max - 2 || lm.h > max - 2 {
+                let scale = lm.w.max(lm.h) as f32 / (max - 2) as f32;
+                return Err(LayoutError::Lightmap {
+                    polygon: i,
+                    object: p.object.clone(),
+                    w: lm.w,
+                    h: lm.h,
+                    size: patch_size,
+                    max,
+                    suggest: patch_size * scale * 1.05,
+                });
+            }
+            lightmaps.push(lm);
+        }
         let sizes: Vec<(u32, u32)> = lightmaps.iter().map(|l| (l.w + 2, l.h + 2)).collect();
         let packed = atlas::pack(&sizes);
+        if packed.width > max || packed.height > max {
+            let scale = packed.width.max(packed.height) as f32 / max as f32;
+            return Err(LayoutError::Atlas {
+                w: packed.width,
+                h: packed.height,
+                size: patch_size,
+                max,
+                suggest: patch_size * scale * 1.05,
+            });
+        }
         for (l, &(x, y)) in lightmaps.iter_mut().zip(&packed.positions) {
             l.x = x + 1;
             l.y = y + 1;
@@ -119,7 +170,7 @@ impl PatchLayout {
                 }
             }
         }
-        layout
+        Ok(layout)
     }
 
     pub fn patch_count(&self) -> u64 {
@@ -154,7 +205,13 @@ impl PatchLayout {
         let mask = rgba
             .chunks_exact(4)
             .zip(&self.owner)
-            .map(|(t, &o)| if lit[o as usize] && t[..3].iter().all(|&v| v == 0.0) { 0 } else { o })
+            .map(|(t, &o)| {
+                if lit[o as usize] && t[..3].iter().all(|&v| v == 0.0) {
+                    0
+                } else {
+                    o
+                }
+            })
             .collect();
         self.dilate_from(rgba, mask);
     }

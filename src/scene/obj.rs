@@ -40,6 +40,21 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         source,
     })?;
     let header = parse_comments(path, &text)?;
+    check_lines(path, &text)?;
+    let mut warnings = Vec::new();
+    for lib in text.lines().filter_map(|l| l.trim().strip_prefix("mtllib ")) {
+        let mtl = path.parent().unwrap_or(Path::new(".")).join(lib.trim());
+        match std::fs::read_to_string(&mtl) {
+            // A missing MTL is a warning: the geometry still loads (and with no emitter the
+            // scene then stops with its own clear error). A malformed one is an error: a typo in
+            // Kd or Ke would otherwise silently change the light.
+            Err(e) => warnings.push(format!(
+                "cannot read the material library {} ({e}); its faces are grey",
+                mtl.display()
+            )),
+            Ok(mtl_text) => check_mtl(&mtl, &mtl_text)?,
+        }
+    }
 
     let options = tobj::LoadOptions {
         triangulate: false,
@@ -53,7 +68,6 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
             .unwrap_or_default(),
         what: format!("malformed OBJ ({e})"),
     })?;
-    let mut warnings = Vec::new();
     let mut materials: Vec<Material> = match materials {
         Ok(m) => m.into_iter().map(to_material).collect(),
         Err(e) => {
@@ -73,6 +87,7 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
 
     let mut polygons = Vec::new();
     let mut skipped = 0;
+    let mut split = 0;
     for model in &models {
         let mesh = &model.mesh;
         let position = |i: u32| {
@@ -105,7 +120,19 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
             let idx = &mesh.indices[start..start + arity as usize];
             start += arity as usize;
             let vertices: Vec<Vec3> = idx.iter().map(|&i| position(i)).collect();
-            match Polygon::new(vertices, material, model.name.clone()) {
+            match Polygon::new(vertices.clone(), material, model.name.clone()) {
+                // A badly non-planar polygon has no one plane for its lightmap: split it into
+                // the triangles of a fan, each planar.
+                Some(p) if vertices.len() > 3 && !p.is_planar(0.01) => {
+                    split += 1;
+                    for k in 1..vertices.len() - 1 {
+                        let tri = vec![vertices[0], vertices[k], vertices[k + 1]];
+                        match Polygon::new(tri, material, model.name.clone()) {
+                            Some(t) => polygons.push(t),
+                            None => skipped += 1,
+                        }
+                    }
+                }
                 Some(p) => polygons.push(p),
                 None => skipped += 1,
             }
@@ -113,6 +140,12 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
     }
     for w in &warnings {
         eprintln!("warning: {}: {w}", path.display());
+    }
+    if split > 0 {
+        eprintln!(
+            "warning: {}: split {split} non-planar polygon(s) (off their plane by more than 1 % of their size) into triangles",
+            path.display()
+        );
     }
     if skipped > 0 {
         eprintln!(
@@ -241,6 +274,81 @@ fn parse_camera(rest: &str) -> Option<Camera> {
         i += 4;
     }
     (seen & 3 == 3).then_some(camera)
+}
+
+/// Check every `v` and `f` line before tobj sees the file, so an error names its line: vertices
+/// need three finite numbers, faces at least three vertices whose indices exist.
+fn check_lines(path: &Path, text: &str) -> Result<(), SceneError> {
+    let mut vertices: i64 = 0;
+    for (n, line) in text.lines().enumerate() {
+        let bad = |what: String| SceneError::Parse {
+            path: path.to_path_buf(),
+            line: format!(":{}", n + 1),
+            what,
+        };
+        let mut tokens = line.split_whitespace();
+        match tokens.next() {
+            Some("v") => {
+                let values: Vec<&str> = tokens.collect();
+                let numbers: Vec<f32> = values.iter().filter_map(|t| t.parse().ok()).collect();
+                if values.len() < 3 || numbers.len() != values.len() {
+                    return Err(bad(format!("a vertex needs three numbers, got `{}`", line.trim())));
+                }
+                if numbers.iter().take(3).any(|v| !v.is_finite()) {
+                    return Err(bad(format!("vertex coordinates must be finite, got `{}`", line.trim())));
+                }
+                vertices += 1;
+            }
+            Some("f") => {
+                let corners: Vec<&str> = tokens.collect();
+                if corners.len() < 3 {
+                    return Err(bad(format!(
+                        "a face needs at least three vertices, got {} (`{}`)",
+                        corners.len(),
+                        line.trim()
+                    )));
+                }
+                for c in corners {
+                    let index = c.split('/').next().and_then(|i| i.parse::<i64>().ok());
+                    let ok = match index {
+                        Some(i) if i > 0 => i <= vertices,
+                        Some(i) if i < 0 => -i <= vertices,
+                        _ => false,
+                    };
+                    if !ok {
+                        return Err(bad(format!(
+                            "face vertex `{c}` does not name one of the {vertices} vertices defined before it"
+                        )));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Check the colour lines of an MTL file (Ka, Kd, Ks, Ke: three numbers in range).
+fn check_mtl(path: &Path, text: &str) -> Result<(), SceneError> {
+    for (n, line) in text.lines().enumerate() {
+        let mut tokens = line.split_whitespace();
+        let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = tokens.next() else { continue };
+        let values: Vec<&str> = tokens.collect();
+        let numbers: Vec<f32> = values.iter().filter_map(|t| t.parse().ok()).collect();
+        let fine = values.len() == 3
+            && numbers.len() == 3
+            && numbers.iter().all(|v| v.is_finite() && *v >= 0.0)
+            && (key == "Ke" || numbers.iter().all(|v| *v <= 1.0));
+        if !fine {
+            let range = if key == "Ke" { "finite, ≥ 0" } else { "in [0, 1]" };
+            return Err(SceneError::Parse {
+                path: path.to_path_buf(),
+                line: format!(":{}", n + 1),
+                what: format!("`{key}` needs three numbers {range}, got `{}`", line.trim()),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// tobj reports what went wrong but not where: find the first line of that kind that does not

@@ -5,11 +5,13 @@
 //! shooter), `reconstruction.rs` (form factors and received energy per patch, accumulation).
 //! `mesh.rs` builds the one vertex buffer every pass draws.
 
+pub mod cpu;
 pub mod find_max_energy;
 pub mod form_factor;
 pub mod mesh;
 pub mod progressive;
 pub mod reconstruction;
+pub mod shooters;
 pub mod visibility;
 
 pub use progressive::{GpuSolver, SolveError};

@@ -1,0 +1,35 @@
+//! The CPU twin of the reconstruction pass: ΔL for every patch from one shooter, with the same
+//! form factors as `glsl/reconstruct.frag` (`solver::form_factor`) and exact visibility.
+
+use super::visibility::Bvh;
+use crate::solver::{form_factor, FormFactorKind, Shooter};
+use glam::Vec3;
+
+/// A receiving patch: its atlas texel, polygon, centre, normal and reflectance.
+#[derive(Clone, Copy)]
+pub struct Receiver {
+    pub texel: usize,
+    pub polygon: u32,
+    pub centre: Vec3,
+    pub normal: Vec3,
+    pub rho: Vec3,
+}
+
+/// ΔL at `r` from `s` (zero on the shooter's own polygon: a planar shooter sends it nothing).
+pub fn delta(r: &Receiver, s: &Shooter, kind: FormFactorKind, bvh: &Bvh) -> Vec3 {
+    if r.polygon as usize == s.polygon {
+        return Vec3::ZERO;
+    }
+    let received = match kind {
+        FormFactorKind::Point => s.energy * form_factor::point(r.centre, r.normal, s.position, s.normal),
+        FormFactorKind::Polygon => {
+            let outline = &s.corners[..s.corner_count];
+            s.energy / s.area * form_factor::polygon(r.centre, r.normal, outline, s.normal)
+        }
+    };
+    // Cast the shadow ray only where there is something to shadow.
+    if received == Vec3::ZERO || bvh.occluded(r.centre, s.position, r.polygon, s.polygon as u32) {
+        return Vec3::ZERO;
+    }
+    r.rho * received
+}

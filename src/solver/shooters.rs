@@ -1,0 +1,117 @@
+//! Shooters: what carries a polygon's unshot energy in one shot. The paper shoots the whole
+//! polygon from its centroid; the accurate mode shoots each cell of K×K patches of its lightmap
+//! from the cell's energy-weighted centre, with the cell's outline (its rectangle clipped to the
+//! polygon) for the polygon form factor. The GPU and the CPU solvers share this code.
+
+use super::find_max_energy::EnergyTotals;
+use super::{Shooter, MAX_CORNERS};
+use crate::patches::{clip_convex, signed_area, Lightmap, PatchLayout};
+use crate::scene::Scene;
+use glam::{Vec2, Vec3};
+
+/// Lightmap-space outline → world corners (padded to MAX_CORNERS), their count and world area.
+fn world_outline(lm: &Lightmap, outline: &[Vec2]) -> ([Vec3; MAX_CORNERS], usize, f32) {
+    let mut corners = [Vec3::ZERO; MAX_CORNERS];
+    for (c, p) in corners.iter_mut().zip(outline) {
+        *c = lm.world(p.x, p.y);
+    }
+    (
+        corners,
+        outline.len().min(MAX_CORNERS),
+        signed_area(outline).abs() * lm.texel_area(),
+    )
+}
+
+/// The shooters that carry polygon `p`'s unshot energy: the whole polygon from its centroid
+/// (the paper), or one shooter per cell of `shooter_cell`² patches, each at the mean position
+/// of its patches with the cell's own unshot energy.
+pub fn shooters_of(
+    scene: &Scene,
+    layout: &PatchLayout,
+    cell: u32,
+    unshot: &[f32],
+    patch_area: &[f64],
+    totals: &EnergyTotals,
+    p: usize,
+) -> Vec<Shooter> {
+    let polygon = &scene.polygons[p];
+    let lm = &layout.lightmaps[p];
+    let outline: Vec<Vec2> = polygon.vertices.iter().map(|&v| lm.texel_of(v)).collect();
+    if cell == 0 {
+        let rect = [
+            Vec2::ZERO,
+            Vec2::new(lm.w as f32, 0.0),
+            Vec2::new(lm.w as f32, lm.h as f32),
+            Vec2::new(0.0, lm.h as f32),
+        ];
+        let corners = if outline.len() <= MAX_CORNERS {
+            &outline[..]
+        } else {
+            &rect[..]
+        };
+        let (corners, corner_count, area) = world_outline(lm, corners);
+        return vec![Shooter {
+            polygon: p,
+            texels: [lm.x, lm.y, lm.x + lm.w, lm.y + lm.h],
+            position: polygon.centroid,
+            normal: polygon.normal,
+            energy: totals.energy_rgb(p),
+            corners,
+            corner_count,
+            area,
+        }];
+    }
+    let width = layout.atlas_width as usize;
+    let patch_area = patch_area[p];
+    let mut shooters = Vec::new();
+    for y0 in (0..lm.h).step_by(cell as usize) {
+        for x0 in (0..lm.w).step_by(cell as usize) {
+            let (x1, y1) = ((x0 + cell).min(lm.w), (y0 + cell).min(lm.h));
+            // Shoot from the cell's energy-weighted centre: patches with nothing to shoot (e.g.
+            // buried under a block standing on the floor) do not move the shooter under it.
+            let (mut energy, mut position, mut weight) = ([0f64; 3], Vec3::ZERO, 0f32);
+            for t in y0..y1 {
+                for s in x0..x1 {
+                    let at = ((lm.y + t) as usize * width + (lm.x + s) as usize) * 4;
+                    let texel = &unshot[at..at + 4];
+                    if texel[3] as usize != p + 1 {
+                        continue;
+                    }
+                    for c in 0..3 {
+                        energy[c] += texel[c] as f64 * patch_area;
+                    }
+                    let w = texel[0] + texel[1] + texel[2];
+                    position += w * lm.world(s as f32 + 0.5, t as f32 + 0.5);
+                    weight += w;
+                }
+            }
+            if weight <= 0.0 {
+                continue;
+            }
+            // The cell's outline: its rectangle clipped to the polygon (the rectangle itself
+            // where the polygon is not convex or the clip has too many corners).
+            let (fx0, fy0, fx1, fy1) = (x0 as f32, y0 as f32, x1 as f32, y1 as f32);
+            let rect = [
+                Vec2::new(fx0, fy0),
+                Vec2::new(fx1, fy0),
+                Vec2::new(fx1, fy1),
+                Vec2::new(fx0, fy1),
+            ];
+            let clipped = clip_convex(&rect, &outline)
+                .filter(|c| c.len() >= 3 && c.len() <= MAX_CORNERS && signed_area(c) > 0.0);
+            let (corners, corner_count, area) =
+                world_outline(lm, clipped.as_deref().unwrap_or(&rect));
+            shooters.push(Shooter {
+                polygon: p,
+                texels: [lm.x + x0, lm.y + y0, lm.x + x1, lm.y + y1],
+                position: position / weight,
+                normal: polygon.normal,
+                energy: Vec3::new(energy[0] as f32, energy[1] as f32, energy[2] as f32),
+                corners,
+                corner_count,
+                area,
+            });
+        }
+    }
+    shooters
+}
