@@ -10,7 +10,9 @@
 pub mod cli;
 pub mod display;
 pub mod gl;
+pub mod golden;
 pub mod patches;
 pub mod scene;
 pub mod solver;
 pub mod validate;
+pub mod viewer;

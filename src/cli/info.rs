@@ -55,7 +55,9 @@ pub fn run_info(args: &InfoArgs) -> Result<()> {
     let exe = std::env::current_exe()?;
     let mut working = 0;
     for (name, flag) in [("egl", "egl"), ("osmesa", "osmesa")] {
-        let out = Command::new(&exe).args(["info", "--probe", flag]).output()?;
+        let out = Command::new(&exe)
+            .args(["info", "--probe", flag])
+            .output()?;
         let report: Option<Report> = out
             .status
             .success()
@@ -68,13 +70,22 @@ pub fn run_info(args: &InfoArgs) -> Result<()> {
                 println!("  vendor      {}", r.vendor);
                 println!("  renderer    {}", r.renderer);
                 println!("  version     {} (GLSL {})", r.version, r.glsl);
-                println!("  max texture {0}x{0}, max renderbuffer {1}x{1}", r.max_texture_size, r.max_renderbuffer_size);
-                println!("  float render targets (RGBA32F): {}", if r.float_render_target { "yes" } else { "NO" });
+                println!(
+                    "  max texture {0}x{0}, max renderbuffer {1}x{1}",
+                    r.max_texture_size, r.max_renderbuffer_size
+                );
+                println!(
+                    "  float render targets (RGBA32F): {}",
+                    if r.float_render_target { "yes" } else { "NO" }
+                );
                 println!("  KHR_debug: {}", if r.khr_debug { "yes" } else { "no" });
             }
             None => {
                 let why = String::from_utf8_lossy(&out.stderr);
-                println!("{name}: not available: {}", why.trim().trim_start_matches("error: "));
+                println!(
+                    "{name}: not available: {}",
+                    why.trim().trim_start_matches("error: ")
+                );
             }
         }
     }

@@ -1,9 +1,12 @@
 //! The command line: one file per subcommand.
 
+mod bench;
+mod check;
 mod info;
 mod scene;
 mod solve;
 mod validate;
+mod view;
 
 use clap::{Parser, Subcommand};
 
@@ -26,17 +29,26 @@ pub enum Command {
     Solve(SolveArgs),
     /// Generate one of the paper's two rooms (Table 1) as an OBJ + MTL pair and print its counts.
     Scene(scene::SceneArgs),
+    /// Benchmarks: `table1` replicates the paper's Table 1 (CPU vs GPU on the two rooms).
+    Bench(bench::BenchArgs),
+    /// Compare renders of the bundled scenes with golden images (regression-test a Mesa build).
+    Check(check::CheckArgs),
     /// List the OpenGL backends that work here, with their renderer and limits.
     Info(info::InfoArgs),
     /// Check the solver against closed forms, the furnace and a direct solve; print the table.
     Validate(validate::ValidateArgs),
+    /// Open a window that lights the scene shot by shot, with the passes' pictures and a panel.
+    View(view::ViewArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Solve(args) => run_solve(&args).map(|_| ()),
-        Command::Validate(args) => validate::run_validate(&args),
         Command::Scene(args) => scene::run_scene(&args),
+        Command::Validate(args) => validate::run_validate(&args),
         Command::Info(args) => info::run_info(&args),
+        Command::Check(args) => check::run_check(&args),
+        Command::Bench(args) => bench::run_bench(&args),
+        Command::View(args) => view::run_view(&args),
     }
 }

@@ -4,6 +4,7 @@ use crate::display::{self, output};
 use crate::gl::{BackendChoice, GlContext, GlInfo};
 use crate::patches::{PatchLayout, Resolution};
 use crate::scene::{load_obj, Camera};
+use crate::solver::cpu::CpuSolver;
 use crate::solver::{FormFactorKind, GpuSolver, ShotRecord, SolveOptions, VisibilityKind};
 use anyhow::{bail, Context, Result};
 use glam::Vec3;
@@ -25,9 +26,13 @@ pub struct SolveArgs {
     /// OpenGL backend: auto tries EGL, then OSMesa.
     #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
     pub backend: BackendChoice,
-    /// Solver (the CPU solver is not built yet).
+    /// gpu: the paper's passes on OpenGL; cpu: the same algorithm in Rust with exact ray-cast
+    /// visibility (the display still uses OpenGL).
     #[arg(long, value_enum, default_value_t = SolverKind::Gpu)]
     pub solver: SolverKind,
+    /// Worker threads of the CPU solver (0: one per core). The result is the same for any count.
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
     /// Stop when unshot power / emitted power ≤ this.
     #[arg(long, default_value_t = 0.01)]
     pub threshold: f32,
@@ -82,6 +87,13 @@ pub struct SolveArgs {
     /// Multiplier applied to radiance before tone mapping image.png.
     #[arg(long, default_value_t = 1.0)]
     pub exposure: f32,
+    /// Write pictures of these shots' passes into the output directory (item buffer, ΔL, atlas
+    /// before and after; see src/display/passes.rs), e.g. `--dump-passes 1,2,10`.
+    #[arg(long, value_delimiter = ',', value_name = "K[,K...]")]
+    pub dump_passes: Vec<u32>,
+    /// Write convergence.png: unshot fraction against shot and against time, log scale.
+    #[arg(long)]
+    pub plot: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
@@ -115,6 +127,60 @@ impl SolveArgs {
 #[serde(rename_all = "lowercase")]
 pub enum SolverKind {
     Gpu,
+    Cpu,
+}
+
+fn rayon_threads(requested: usize) -> usize {
+    if requested > 0 {
+        requested
+    } else {
+        std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1)
+    }
+}
+
+/// What either solver leaves for display and stats.
+struct Solved {
+    atlas: Vec<f32>,
+    unshot: Vec<f32>,
+    patch_area: Vec<f64>,
+    shots: u32,
+    passes: u32,
+    unshot_fraction: f64,
+    emitted_power: f64,
+    pass_seconds: Option<crate::solver::progressive::PassTimes>,
+    history: Vec<ShotRecord>,
+}
+
+impl Solved {
+    fn from_gpu(s: &GpuSolver) -> Solved {
+        Solved {
+            atlas: s.radiosity_atlas(),
+            unshot: s.unshot_atlas().to_vec(),
+            patch_area: (0..s.gpu_patches.len()).map(|p| s.patch_area(p)).collect(),
+            shots: s.shots(),
+            passes: s.passes,
+            unshot_fraction: s.unshot_fraction(),
+            emitted_power: s.emitted_power(),
+            pass_seconds: Some(s.times.clone()),
+            history: s.history.clone(),
+        }
+    }
+
+    fn from_cpu(s: &CpuSolver) -> Solved {
+        Solved {
+            atlas: s.radiosity_atlas(),
+            unshot: s.unshot_atlas().to_vec(),
+            patch_area: s.patch_areas().to_vec(),
+            shots: s.shots(),
+            passes: s.passes,
+            unshot_fraction: s.unshot_fraction(),
+            emitted_power: s.emitted_power(),
+            pass_seconds: None,
+            history: s.history.clone(),
+        }
+    }
 }
 
 fn parse_vec3(s: &str) -> Result<Vec3, String> {
@@ -134,7 +200,7 @@ fn parse_vec3(s: &str) -> Result<Vec3, String> {
     }
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("expected WxH, got '{s}'"))?;
@@ -171,11 +237,14 @@ pub struct Stats {
     /// Visibility + reconstruction pass pairs (one per shooter cell of each shot).
     pub passes: u32,
     pub solve_seconds: f64,
+    /// Worker threads of the CPU solver.
+    pub threads: Option<usize>,
     pub unshot_fraction: f64,
     pub emitted_power: f64,
     /// The ambient radiance added to the images (with --ambient), RGB.
     pub ambient: Option<[f32; 3]>,
-    pub pass_seconds: crate::solver::progressive::PassTimes,
+    /// Seconds per GPU pass (the GPU solver only).
+    pub pass_seconds: Option<crate::solver::progressive::PassTimes>,
     pub history: Vec<ShotRecord>,
 }
 
@@ -217,7 +286,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         (None, None, Some(s)) => Resolution::PatchSize(s),
         (None, None, None) => Resolution::Patches(DEFAULT_PATCHES),
     };
-    let layout = PatchLayout::new(&scene, resolution);
+    let layout = PatchLayout::try_new(&scene, resolution)?;
     let ctx = GlContext::headless(args.backend)?;
     let info: &GlInfo = &ctx.info;
     eprintln!(
@@ -240,30 +309,56 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     );
 
     let options = args.options();
-    let mut solver = GpuSolver::new(&ctx, &scene, &layout, options.clone())?;
     let bar = progress_bar(args.threshold);
-    solver.solve(|r| {
+    let progress = |r: &ShotRecord| {
         bar.set_position(progress_position(r.unshot_fraction, args.threshold));
         bar.set_message(format!("shot {} unshot {:.4}", r.shot, r.unshot_fraction));
-    })?;
+    };
+    let solver = match args.solver {
+        SolverKind::Gpu => {
+            let mut solver = GpuSolver::new(&ctx, &scene, &layout, options.clone())?;
+            let mut dumps = display::passes::PassDumps::new(&args.dump_passes, &out_dir);
+            display::passes::solve_dumping(&mut solver, &scene, &layout, &mut dumps, progress)?;
+            Solved::from_gpu(&solver)
+        }
+        SolverKind::Cpu => {
+            if !args.dump_passes.is_empty() {
+                bail!("--dump-passes pictures the GPU passes: use it with --solver gpu");
+            }
+            let mut solver = CpuSolver::new(&scene, &layout, options.clone(), args.threads)?;
+            solver.solve(progress);
+            Solved::from_cpu(&solver)
+        }
+    };
     bar.finish_and_clear();
+    // Light that reaches nothing means a scene error (most often emitters wound backwards), not
+    // a black picture to write.
+    if !solver.history.is_empty() && solver.history.iter().all(|r| r.reflected_power <= 0.0) {
+        let lights: Vec<&str> = scene
+            .polygons
+            .iter()
+            .filter(|p| scene.material(p).is_emitter())
+            .map(|p| p.object.as_str())
+            .collect();
+        bail!(
+            "{}: the light reaches no surface that reflects it: the emitters ({}) face away from \
+             everything, or nothing in front of them has a reflectance (Kd) above 0. Emitters \
+             shine from their front face: counter-clockwise vertex order seen from the front",
+            scene_path.display(),
+            lights.join(", ")
+        );
+    }
     let solve_seconds = solver.history.last().map(|r| r.seconds).unwrap_or(0.0);
     eprintln!(
         "solved: {} shots ({} passes), unshot fraction {:.5}, {:.3} s",
-        solver.shots(),
-        solver.passes,
-        solver.unshot_fraction(),
-        solve_seconds
+        solver.shots, solver.passes, solver.unshot_fraction, solve_seconds
     );
 
-    let mut atlas = solver.radiosity_atlas();
+    let mut atlas = solver.atlas.clone();
     let camera = camera_from(args, scene.camera_or_default());
     let raw_atlas = atlas.clone();
     let ambient = if args.ambient {
-        let areas: Vec<f64> = (0..scene.polygons.len())
-            .map(|p| solver.patch_area(p))
-            .collect();
-        let l = display::ambient::ambient(&scene, solver.unshot_atlas(), &areas);
+        let l = display::ambient::ambient(&scene, &solver.unshot, &solver.patch_area);
         display::ambient::add_ambient(&scene, &mut atlas, l);
         eprintln!("ambient term: {:.5} {:.5} {:.5}", l.x, l.y, l.z);
         Some(l.to_array())
@@ -271,10 +366,12 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         None
     };
     layout.dilate_buried(&mut atlas);
+    let mesh =
+        crate::solver::mesh::upload(&ctx.gl, &crate::solver::mesh::vertex_data(&scene, &layout))?;
     let image = display::render(
         &ctx,
         &scene,
-        solver.mesh(),
+        &mesh,
         &atlas,
         (layout.atlas_width, layout.atlas_height),
         &camera,
@@ -299,7 +396,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         faces: scene.polygons.len(),
         vertices: scene.vertex_count,
         lights: scene.light_count(),
-        patches: solver.gpu_patches.iter().map(|&n| n as u64).sum(),
+        patches: layout.patch_count(),
         patch_size: layout.patch_size,
         atlas: [layout.atlas_width, layout.atlas_height],
         solver: args.solver,
@@ -309,16 +406,22 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         gl_renderer: info.renderer.clone(),
         gl_version: info.version.clone(),
         options,
-        shots: solver.shots(),
+        shots: solver.shots,
         passes: solver.passes,
         solve_seconds,
-        unshot_fraction: solver.unshot_fraction(),
-        emitted_power: solver.emitted_power(),
+        threads: (args.solver == SolverKind::Cpu).then(|| rayon_threads(args.threads)),
+        unshot_fraction: solver.unshot_fraction,
+        emitted_power: solver.emitted_power,
         ambient,
-        pass_seconds: solver.times.clone(),
-        history: solver.history.clone(),
+        pass_seconds: solver.pass_seconds,
+        history: solver.history,
     };
     output::write_json(&out_dir.join("stats.json"), &stats)?;
+    if args.plot {
+        let title = format!("{} ({:?} mode)", scene.name, args.mode).to_lowercase();
+        let path = out_dir.join("convergence.png");
+        display::plot::write_convergence(&path, &stats.history, args.threshold, &title)?;
+    }
     eprintln!("wrote {}", out_dir.display());
     Ok(SolveOutcome { stats, out_dir })
 }

@@ -3,9 +3,11 @@
 
 pub mod ambient;
 pub mod output;
+pub mod passes;
+pub mod plot;
 mod render;
 
-pub use render::{render, Image};
+pub use render::{render, scene_view_projection, DisplayPass, Image, Viewport};
 
 use crate::scene::Camera;
 use glam::Mat4;

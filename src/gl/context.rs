@@ -100,7 +100,10 @@ impl GlContext {
 
     /// Wrap a context that is already current (e.g. a window's), so the same passes run on it.
     /// `keep` is held until this value is dropped (put the window's context in it).
-    pub fn from_current(gl: glow::Context, keep: Box<dyn std::any::Any>) -> Result<GlContext, String> {
+    pub fn from_current(
+        gl: glow::Context,
+        keep: Box<dyn std::any::Any>,
+    ) -> Result<GlContext, String> {
         Self::finish(BackendKind::Window, Keep::External(keep), gl)
     }
 

@@ -7,6 +7,7 @@ mod egl;
 pub mod objects;
 mod osmesa;
 pub mod program;
+pub mod window;
 
 pub use check::GlError;
 pub use context::{BackendChoice, BackendKind, GlContext, GlInfo};

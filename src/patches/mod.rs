@@ -80,15 +80,38 @@ pub enum LayoutError {
     #[error(
         "polygon {polygon} (object '{object}') would need a {w}x{h} lightmap at patch size {size}, \
          more than an atlas of {max}x{max} can hold; the smallest patch size that fits is about \
-         {suggest:.4} scene units"
+         {suggest} scene units"
     )]
-    Lightmap { polygon: usize, object: String, w: u32, h: u32, size: f32, max: u32, suggest: f32 },
+    Lightmap {
+        polygon: usize,
+        object: String,
+        w: u32,
+        h: u32,
+        size: f32,
+        max: u32,
+        suggest: f32,
+    },
     #[error(
         "the lightmap atlas would be {w}x{h} texels at patch size {size}, more than {max}x{max}; \
-         the smallest patch size that fits is about {suggest:.4} scene units (--patch-size), or \
+         the smallest patch size that fits is about {suggest} scene units (--patch-size), or \
          ask for fewer --patches"
     )]
-    Atlas { w: u32, h: u32, size: f32, max: u32, suggest: f32 },
+    Atlas {
+        w: u32,
+        h: u32,
+        size: f32,
+        max: u32,
+        suggest: f32,
+    },
+}
+
+/// `x` rounded up to three significant digits, for suggestions in messages.
+pub fn three_digits_up(x: f32) -> f32 {
+    if !(x > 0.0 && x.is_finite()) {
+        return x;
+    }
+    let scale = 10f32.powi(2 - x.log10().floor() as i32);
+    (x * scale).ceil() / scale
 }
 
 /// How finely to cut the polygons into patches.
@@ -127,7 +150,7 @@ impl PatchLayout {
                     h: lm.h,
                     size: patch_size,
                     max,
-                    suggest: patch_size * scale * 1.05,
+                    suggest: three_digits_up(patch_size * scale * 1.05),
                 });
             }
             lightmaps.push(lm);
@@ -141,7 +164,7 @@ impl PatchLayout {
                 h: packed.height,
                 size: patch_size,
                 max,
-                suggest: patch_size * scale * 1.05,
+                suggest: three_digits_up(patch_size * scale * 1.05),
             });
         }
         for (l, &(x, y)) in lightmaps.iter_mut().zip(&packed.positions) {

@@ -83,9 +83,13 @@ impl Polygon {
 impl Polygon {
     /// Do all vertices lie within `tolerance` × the polygon's size of its plane?
     pub fn is_planar(&self, tolerance: f32) -> bool {
-        let size = bounds(&self.vertices).map(|(lo, hi)| (hi - lo).length()).unwrap_or(0.0);
+        let size = bounds(&self.vertices)
+            .map(|(lo, hi)| (hi - lo).length())
+            .unwrap_or(0.0);
         let d = self.centroid.dot(self.normal);
-        self.vertices.iter().all(|v| (v.dot(self.normal) - d).abs() <= tolerance * size)
+        self.vertices
+            .iter()
+            .all(|v| (v.dot(self.normal) - d).abs() <= tolerance * size)
     }
 }
 

@@ -42,7 +42,10 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
     let header = parse_comments(path, &text)?;
     check_lines(path, &text)?;
     let mut warnings = Vec::new();
-    for lib in text.lines().filter_map(|l| l.trim().strip_prefix("mtllib ")) {
+    for lib in text
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("mtllib "))
+    {
         let mtl = path.parent().unwrap_or(Path::new(".")).join(lib.trim());
         match std::fs::read_to_string(&mtl) {
             // A missing MTL is a warning: the geometry still loads (and with no emitter the
@@ -292,10 +295,16 @@ fn check_lines(path: &Path, text: &str) -> Result<(), SceneError> {
                 let values: Vec<&str> = tokens.collect();
                 let numbers: Vec<f32> = values.iter().filter_map(|t| t.parse().ok()).collect();
                 if values.len() < 3 || numbers.len() != values.len() {
-                    return Err(bad(format!("a vertex needs three numbers, got `{}`", line.trim())));
+                    return Err(bad(format!(
+                        "a vertex needs three numbers, got `{}`",
+                        line.trim()
+                    )));
                 }
                 if numbers.iter().take(3).any(|v| !v.is_finite()) {
-                    return Err(bad(format!("vertex coordinates must be finite, got `{}`", line.trim())));
+                    return Err(bad(format!(
+                        "vertex coordinates must be finite, got `{}`",
+                        line.trim()
+                    )));
                 }
                 vertices += 1;
             }
@@ -332,7 +341,9 @@ fn check_lines(path: &Path, text: &str) -> Result<(), SceneError> {
 fn check_mtl(path: &Path, text: &str) -> Result<(), SceneError> {
     for (n, line) in text.lines().enumerate() {
         let mut tokens = line.split_whitespace();
-        let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = tokens.next() else { continue };
+        let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = tokens.next() else {
+            continue;
+        };
         let values: Vec<&str> = tokens.collect();
         let numbers: Vec<f32> = values.iter().filter_map(|t| t.parse().ok()).collect();
         let fine = values.len() == 3
@@ -340,7 +351,11 @@ fn check_mtl(path: &Path, text: &str) -> Result<(), SceneError> {
             && numbers.iter().all(|v| v.is_finite() && *v >= 0.0)
             && (key == "Ke" || numbers.iter().all(|v| *v <= 1.0));
         if !fine {
-            let range = if key == "Ke" { "finite, ≥ 0" } else { "in [0, 1]" };
+            let range = if key == "Ke" {
+                "finite, ≥ 0"
+            } else {
+                "in [0, 1]"
+            };
             return Err(SceneError::Parse {
                 path: path.to_path_buf(),
                 line: format!(":{}", n + 1),

@@ -25,7 +25,7 @@ pub enum SolveError {
     Gl(#[from] GlError),
     #[error(
         "the lightmap atlas needs {width}x{height} texels but this driver allows at most {max}x{max} \
-         (GL_MAX_TEXTURE_SIZE / GL_MAX_RENDERBUFFER_SIZE); use a larger --patch-size (about {suggest:.4} \
+         (GL_MAX_TEXTURE_SIZE / GL_MAX_RENDERBUFFER_SIZE); use a larger --patch-size (about {suggest} \
          scene units or more) or fewer --patches"
     )]
     AtlasTooLarge {
@@ -98,7 +98,7 @@ impl<'a> GpuSolver<'a> {
                 width: w,
                 height: h,
                 max,
-                suggest: layout.patch_size * scale,
+                suggest: crate::patches::three_digits_up(layout.patch_size * scale),
             });
         }
         if options.hemi_res < 16 || options.hemi_res as i64 > max as i64 {

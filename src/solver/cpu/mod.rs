@@ -20,7 +20,10 @@ use visibility::Bvh;
 #[derive(Debug, thiserror::Error)]
 pub enum CpuError {
     #[error("cannot start {threads} worker threads: {source}")]
-    Threads { threads: usize, source: rayon::ThreadPoolBuildError },
+    Threads {
+        threads: usize,
+        source: rayon::ThreadPoolBuildError,
+    },
     #[error(
         "the emitters have no patches at this patch size ({size} scene units): a light smaller \\
          than a patch emits nothing; use a smaller --patch-size or more --patches"
@@ -69,10 +72,27 @@ impl<'a> CpuSolver<'a> {
             let polygon = &scene.polygons[p];
             let material = scene.material(polygon);
             let lm = &layout.lightmaps[p];
-            let (x, y) = (texel % layout.atlas_width as usize, texel / layout.atlas_width as usize);
-            let centre = lm.world((x - lm.x as usize) as f32 + 0.5, (y - lm.y as usize) as f32 + 0.5);
-            receivers.push(Receiver { texel, polygon: p as u32, centre, normal: polygon.normal, rho: material.kd });
-            radiosity[texel * 4..texel * 4 + 4].copy_from_slice(&[material.ke.x, material.ke.y, material.ke.z, owner as f32]);
+            let (x, y) = (
+                texel % layout.atlas_width as usize,
+                texel / layout.atlas_width as usize,
+            );
+            let centre = lm.world(
+                (x - lm.x as usize) as f32 + 0.5,
+                (y - lm.y as usize) as f32 + 0.5,
+            );
+            receivers.push(Receiver {
+                texel,
+                polygon: p as u32,
+                centre,
+                normal: polygon.normal,
+                rho: material.kd,
+            });
+            radiosity[texel * 4..texel * 4 + 4].copy_from_slice(&[
+                material.ke.x,
+                material.ke.y,
+                material.ke.z,
+                owner as f32,
+            ]);
         }
         let unshot = radiosity.clone();
         let patch_area: Vec<f64> = scene
@@ -84,7 +104,9 @@ impl<'a> CpuSolver<'a> {
         let totals = EnergyTotals::sum(&unshot, scene.polygons.len(), Some(&patch_area));
         let emitted_power = totals.total_power();
         if emitted_power <= 0.0 {
-            return Err(CpuError::NoEmission { size: layout.patch_size });
+            return Err(CpuError::NoEmission {
+                size: layout.patch_size,
+            });
         }
         Ok(CpuSolver {
             scene,
@@ -119,7 +141,8 @@ impl<'a> CpuSolver<'a> {
     }
 
     pub fn converged(&self) -> bool {
-        self.unshot_fraction() <= self.options.threshold as f64 || self.shots >= self.options.max_shots
+        self.unshot_fraction() <= self.options.threshold as f64
+            || self.shots >= self.options.max_shots
     }
 
     pub fn next_polygon(&self) -> Option<usize> {
@@ -179,7 +202,11 @@ impl<'a> CpuSolver<'a> {
             }
             self.passes += 1;
         }
-        self.totals = EnergyTotals::sum(&self.unshot, self.scene.polygons.len(), Some(&self.patch_area));
+        self.totals = EnergyTotals::sum(
+            &self.unshot,
+            self.scene.polygons.len(),
+            Some(&self.patch_area),
+        );
         self.shots += 1;
         let record = ShotRecord {
             shot: self.shots,

@@ -21,7 +21,9 @@ pub fn delta(r: &Receiver, s: &Shooter, kind: FormFactorKind, bvh: &Bvh) -> Vec3
         return Vec3::ZERO;
     }
     let received = match kind {
-        FormFactorKind::Point => s.energy * form_factor::point(r.centre, r.normal, s.position, s.normal),
+        FormFactorKind::Point => {
+            s.energy * form_factor::point(r.centre, r.normal, s.position, s.normal)
+        }
         FormFactorKind::Polygon => {
             let outline = &s.corners[..s.corner_count];
             s.energy / s.area * form_factor::polygon(r.centre, r.normal, outline, s.normal)

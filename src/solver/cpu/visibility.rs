@@ -34,8 +34,17 @@ impl Bvh {
             }
         }
         let mut order: Vec<usize> = (0..triangles.len()).collect();
-        let mut bvh = Bvh { nodes: Vec::new(), triangles: Vec::new(), polygon: Vec::new() };
-        bvh.nodes.push(Node { min: Vec3::ZERO, max: Vec3::ZERO, first: 0, count: 0 });
+        let mut bvh = Bvh {
+            nodes: Vec::new(),
+            triangles: Vec::new(),
+            polygon: Vec::new(),
+        };
+        bvh.nodes.push(Node {
+            min: Vec3::ZERO,
+            max: Vec3::ZERO,
+            first: 0,
+            count: 0,
+        });
         bvh.build(0, &mut order, 0, &triangles);
         bvh.triangles = order.iter().map(|&i| triangles[i]).collect();
         bvh.polygon = order.iter().map(|&i| polygon[i]).collect();
@@ -56,7 +65,12 @@ impl Bvh {
             cmax = cmax.max(c);
         }
         if items.len() <= LEAF {
-            self.nodes[at] = Node { min, max, first: offset as u32, count: items.len() as u32 };
+            self.nodes[at] = Node {
+                min,
+                max,
+                first: offset as u32,
+                count: items.len() as u32,
+            };
             return;
         }
         let extent = cmax - cmin;
@@ -74,9 +88,24 @@ impl Bvh {
         let mid = items.len() / 2;
         items.select_nth_unstable_by(mid, |a, b| key(a).total_cmp(&key(b)));
         let left = self.nodes.len();
-        self.nodes.push(Node { min, max, first: 0, count: 0 });
-        self.nodes.push(Node { min, max, first: 0, count: 0 });
-        self.nodes[at] = Node { min, max, first: left as u32, count: 0 };
+        self.nodes.push(Node {
+            min,
+            max,
+            first: 0,
+            count: 0,
+        });
+        self.nodes.push(Node {
+            min,
+            max,
+            first: 0,
+            count: 0,
+        });
+        self.nodes[at] = Node {
+            min,
+            max,
+            first: left as u32,
+            count: 0,
+        };
         let (a, b) = items.split_at_mut(mid);
         self.build(left, a, offset, triangles);
         self.build(left + 1, b, offset + mid, triangles);

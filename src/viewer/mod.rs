@@ -1,0 +1,71 @@
+//! `radiosity view`: the scene lit shot by shot in a window, for seeing the paper's algorithm
+//! work. It runs the same `GpuSolver` and passes as `radiosity solve`, on the window's GL 3.0
+//! compatibility context (`gl::window`), and shows what each shot does.
+//!
+//! `app.rs` is the frame loop (events → a bounded number of shots → draw → panel → present);
+//! `session.rs` one solve (layout, solver, the textures the frame draws from; rebuilt on reset);
+//! `camera.rs` the orbit camera; `overlays.rs` the overlays and insets; `panel.rs` the egui side
+//! panel.
+
+mod app;
+pub mod camera;
+pub mod overlays;
+mod panel;
+mod session;
+
+pub use overlays::Overlay;
+
+use crate::solver::SolveOptions;
+use std::path::PathBuf;
+
+/// The solver's two modes, as `--mode` names them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ViewMode {
+    Paper,
+    Accurate,
+}
+
+impl ViewMode {
+    pub fn options(self, threshold: f32) -> SolveOptions {
+        let base = match self {
+            ViewMode::Paper => SolveOptions::paper(),
+            ViewMode::Accurate => SolveOptions::accurate(),
+        };
+        SolveOptions { threshold, ..base }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ViewMode::Paper => "paper",
+            ViewMode::Accurate => "accurate",
+        }
+    }
+}
+
+/// Everything `radiosity view` is asked for, validated.
+#[derive(Clone, Debug)]
+pub struct ViewOptions {
+    pub scene: PathBuf,
+    pub mode: ViewMode,
+    /// Stop when unshot power / emitted power ≤ this. Range (0, 1); typical 0.01.
+    pub threshold: f32,
+    /// Patch side in scene units; `None`: the scene's `# patch-size`, else about `patches`.
+    pub patch_size: Option<f32>,
+    /// Patches in all when no patch size is given. Typical 4096.
+    pub patches: u32,
+    /// The scene view in pixels (the panel is added beside it). Typical 720x720.
+    pub size: (u32, u32),
+    /// Radiance multiplier before tone mapping, as `solve --exposure`. Typical 1.
+    pub exposure: f32,
+    /// Most shots per frame while running. Range 1..=64; typical 4.
+    pub shots_per_frame: u32,
+    pub overlays: Vec<Overlay>,
+    /// Run from the start, and after this many shots (or convergence) save the window as a PNG
+    /// and exit.
+    pub screenshot: Option<(PathBuf, u32)>,
+}
+
+/// Open the window and run until it is closed (or the screenshot is written).
+pub fn run(options: ViewOptions) -> anyhow::Result<()> {
+    app::run(options)
+}
