@@ -13,6 +13,7 @@ fn solver_options(shooter_cell: u32) -> SolveOptions {
         threshold: 1e-3,
         max_shots: 400,
         shooter_cell,
+        emitter_cell: shooter_cell,
         ..Default::default()
     }
 }

@@ -53,7 +53,8 @@ fn one_shot_agrees_almost_everywhere() {
         median
     );
     assert!(median < 1e-3, "median {median}");
-    assert!(close as f64 >= 0.97 * errors.len() as f64);
+    // The light shoots patch by patch (30 shooters): each casts its own shadow edges.
+    assert!(close as f64 >= 0.93 * errors.len() as f64);
 }
 
 #[test]

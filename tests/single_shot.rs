@@ -55,6 +55,7 @@ fn check_one_shot(shooter_cell: u32, kind: FormFactorKind) {
     let ctx = context();
     let options = SolveOptions {
         shooter_cell,
+        emitter_cell: shooter_cell,
         form_factor: kind,
         robust_visibility: false,
         ..SolveOptions::accurate()

@@ -73,6 +73,7 @@ pub fn bench_options(threshold: f32) -> SolveOptions {
     SolveOptions {
         threshold,
         shooter_cell: 0,
+        emitter_cell: 0,
         max_shots: 1_000_000,
         ..SolveOptions::accurate()
     }

@@ -61,6 +61,10 @@ pub struct SolveArgs {
     /// centroid). Mode default: paper 0, accurate 4.
     #[arg(long)]
     pub shooter_cell: Option<u32>,
+    /// The same for emitters (their first shot is the direct light). Mode default: paper 0,
+    /// accurate 1.
+    #[arg(long)]
+    pub emitter_cell: Option<u32>,
     /// Form factor: point (paper) or polygon (exact for the shooter's cell).
     #[arg(long, value_enum)]
     pub form_factor: Option<FormFactorKind>,
@@ -116,6 +120,7 @@ impl SolveArgs {
             hemi_res: self.hemi_res.unwrap_or(base.hemi_res),
             tessellation: self.tessellate.unwrap_or(base.tessellation),
             shooter_cell: self.shooter_cell.unwrap_or(base.shooter_cell),
+            emitter_cell: self.emitter_cell.unwrap_or(base.emitter_cell),
             form_factor: self.form_factor.unwrap_or(base.form_factor),
             visibility: self.visibility.unwrap_or(base.visibility),
             robust_visibility: base.robust_visibility,

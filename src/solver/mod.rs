@@ -53,6 +53,9 @@ pub struct SolveOptions {
     /// Side, in patches, of the cells a polygon shoots from; 0 shoots the whole polygon from its
     /// centroid, as the paper does. Typical 8.
     pub shooter_cell: u32,
+    /// The same for emitters, whose first shot is the direct light (the sharpest shadows):
+    /// smaller cells there cost a few passes and fix partly shadowed receivers. Typical 1.
+    pub emitter_cell: u32,
     pub form_factor: FormFactorKind,
     pub visibility: VisibilityKind,
     /// Robust visibility: a receiver is visible when any of the 2x2 item-buffer pixels around
@@ -72,6 +75,7 @@ impl SolveOptions {
             hemi_res: 512,
             tessellation: 0.0,
             shooter_cell: 0,
+            emitter_cell: 0,
             form_factor: FormFactorKind::Point,
             visibility: VisibilityKind::Hemisphere,
             robust_visibility: false,
@@ -86,6 +90,7 @@ impl SolveOptions {
             hemi_res: 256,
             tessellation: 0.0,
             shooter_cell: 4,
+            emitter_cell: 1,
             form_factor: FormFactorKind::Polygon,
             visibility: VisibilityKind::Hemicube,
             robust_visibility: true,

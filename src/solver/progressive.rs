@@ -201,7 +201,7 @@ impl<'a> GpuSolver<'a> {
         shooters::shooters_of(
             self.scene,
             self.layout,
-            self.options.shooter_cell,
+            &self.options,
             &self.scratch,
             &self.patch_area,
             &self.totals,

@@ -4,7 +4,7 @@
 //! polygon) for the polygon form factor. The GPU and the CPU solvers share this code.
 
 use super::find_max_energy::EnergyTotals;
-use super::{Shooter, MAX_CORNERS};
+use super::{Shooter, SolveOptions, MAX_CORNERS};
 use crate::patches::{clip_convex, signed_area, Lightmap, PatchLayout};
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
@@ -28,7 +28,7 @@ fn world_outline(lm: &Lightmap, outline: &[Vec2]) -> ([Vec3; MAX_CORNERS], usize
 pub fn shooters_of(
     scene: &Scene,
     layout: &PatchLayout,
-    cell: u32,
+    options: &SolveOptions,
     unshot: &[f32],
     patch_area: &[f64],
     totals: &EnergyTotals,
@@ -36,6 +36,11 @@ pub fn shooters_of(
 ) -> Vec<Shooter> {
     let polygon = &scene.polygons[p];
     let lm = &layout.lightmaps[p];
+    let cell = if scene.material(polygon).is_emitter() {
+        options.emitter_cell
+    } else {
+        options.shooter_cell
+    };
     let outline: Vec<Vec2> = polygon.vertices.iter().map(|&v| lm.texel_of(v)).collect();
     if cell == 0 {
         let rect = [
@@ -63,54 +68,77 @@ pub fn shooters_of(
     }
     let width = layout.atlas_width as usize;
     let patch_area = patch_area[p];
+    let texel = |s: u32, t: u32| -> Option<&[f32]> {
+        let at = ((lm.y + t) as usize * width + (lm.x + s) as usize) * 4;
+        let texel = &unshot[at..at + 4];
+        (texel[3] as usize == p + 1).then_some(texel)
+    };
+    // One shooter for the patches of [x0, x1) × [y0, y1) with energy: at their energy-weighted
+    // centre, with the rectangle clipped to the polygon as its outline.
+    let shooter = |x0: u32, y0: u32, x1: u32, y1: u32| -> Option<Shooter> {
+        let (mut energy, mut position, mut weight) = ([0f64; 3], Vec3::ZERO, 0f32);
+        for t in y0..y1 {
+            for s in x0..x1 {
+                let Some(texel) = texel(s, t) else { continue };
+                for c in 0..3 {
+                    energy[c] += texel[c] as f64 * patch_area;
+                }
+                let w = texel[0] + texel[1] + texel[2];
+                position += w * lm.world(s as f32 + 0.5, t as f32 + 0.5);
+                weight += w;
+            }
+        }
+        if weight <= 0.0 {
+            return None;
+        }
+        // The rectangle itself where the polygon is not convex or the clip has too many corners.
+        let (fx0, fy0, fx1, fy1) = (x0 as f32, y0 as f32, x1 as f32, y1 as f32);
+        let rect = [
+            Vec2::new(fx0, fy0),
+            Vec2::new(fx1, fy0),
+            Vec2::new(fx1, fy1),
+            Vec2::new(fx0, fy1),
+        ];
+        let clipped = clip_convex(&rect, &outline)
+            .filter(|c| c.len() >= 3 && c.len() <= MAX_CORNERS && signed_area(c) > 0.0);
+        let (corners, corner_count, area) = world_outline(lm, clipped.as_deref().unwrap_or(&rect));
+        Some(Shooter {
+            polygon: p,
+            texels: [lm.x + x0, lm.y + y0, lm.x + x1, lm.y + y1],
+            position: position / weight,
+            normal: polygon.normal,
+            energy: Vec3::new(energy[0] as f32, energy[1] as f32, energy[2] as f32),
+            corners,
+            corner_count,
+            area,
+        })
+    };
     let mut shooters = Vec::new();
     for y0 in (0..lm.h).step_by(cell as usize) {
         for x0 in (0..lm.w).step_by(cell as usize) {
             let (x1, y1) = ((x0 + cell).min(lm.w), (y0 + cell).min(lm.h));
-            // Shoot from the cell's energy-weighted centre: patches with nothing to shoot (e.g.
-            // buried under a block standing on the floor) do not move the shooter under it.
-            let (mut energy, mut position, mut weight) = ([0f64; 3], Vec3::ZERO, 0f32);
+            // A cell whose patches partly have nothing to shoot (buried under a block standing on
+            // the floor, or in a shadow nothing has reached yet) would spread its energy over its
+            // whole outline, dark part included: its patches with energy shoot one by one.
+            let (mut lit, mut dark) = (0, 0);
             for t in y0..y1 {
                 for s in x0..x1 {
-                    let at = ((lm.y + t) as usize * width + (lm.x + s) as usize) * 4;
-                    let texel = &unshot[at..at + 4];
-                    if texel[3] as usize != p + 1 {
-                        continue;
+                    match texel(s, t) {
+                        Some(v) if v[0] + v[1] + v[2] > 0.0 => lit += 1,
+                        Some(_) => dark += 1,
+                        None => {}
                     }
-                    for c in 0..3 {
-                        energy[c] += texel[c] as f64 * patch_area;
-                    }
-                    let w = texel[0] + texel[1] + texel[2];
-                    position += w * lm.world(s as f32 + 0.5, t as f32 + 0.5);
-                    weight += w;
                 }
             }
-            if weight <= 0.0 {
-                continue;
+            if lit > 0 && dark > 0 {
+                for t in y0..y1 {
+                    for s in x0..x1 {
+                        shooters.extend(shooter(s, t, s + 1, t + 1));
+                    }
+                }
+            } else {
+                shooters.extend(shooter(x0, y0, x1, y1));
             }
-            // The cell's outline: its rectangle clipped to the polygon (the rectangle itself
-            // where the polygon is not convex or the clip has too many corners).
-            let (fx0, fy0, fx1, fy1) = (x0 as f32, y0 as f32, x1 as f32, y1 as f32);
-            let rect = [
-                Vec2::new(fx0, fy0),
-                Vec2::new(fx1, fy0),
-                Vec2::new(fx1, fy1),
-                Vec2::new(fx0, fy1),
-            ];
-            let clipped = clip_convex(&rect, &outline)
-                .filter(|c| c.len() >= 3 && c.len() <= MAX_CORNERS && signed_area(c) > 0.0);
-            let (corners, corner_count, area) =
-                world_outline(lm, clipped.as_deref().unwrap_or(&rect));
-            shooters.push(Shooter {
-                polygon: p,
-                texels: [lm.x + x0, lm.y + y0, lm.x + x1, lm.y + y1],
-                position: position / weight,
-                normal: polygon.normal,
-                energy: Vec3::new(energy[0] as f32, energy[1] as f32, energy[2] as f32),
-                corners,
-                corner_count,
-                area,
-            });
         }
     }
     shooters

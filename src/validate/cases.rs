@@ -310,6 +310,7 @@ pub fn direct_solve(ctx: &GlContext) -> Result<Check> {
     let s = scene("direct", faces);
     let options = SolveOptions {
         shooter_cell: 1,
+        emitter_cell: 1,
         threshold: 1e-5,
         max_shots: 5000,
         ..SolveOptions::accurate()

@@ -153,7 +153,7 @@ impl<'a> CpuSolver<'a> {
         shooters::shooters_of(
             self.scene,
             self.layout,
-            self.options.shooter_cell,
+            &self.options,
             &self.unshot,
             &self.patch_area,
             &self.totals,

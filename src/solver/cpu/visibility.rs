@@ -111,6 +111,41 @@ impl Bvh {
         self.build(left + 1, b, offset + mid, triangles);
     }
 
+    /// The nearest triangle hit by the ray `o + t d` (t > 0), skipping polygon `skip`:
+    /// (t, polygon). Used by the path-traced reference in the tests.
+    pub fn closest(&self, o: Vec3, d: Vec3, skip: u32) -> Option<(f32, u32)> {
+        let inv = d.recip();
+        let mut best: Option<(f32, u32)> = None;
+        let mut stack = [0u32; 64];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let node = self.nodes[stack[top] as usize];
+            let limit = best.map_or(f32::MAX, |b| b.0);
+            if !slab(o, inv, node.min, node.max, limit) {
+                continue;
+            }
+            if node.count == 0 {
+                stack[top] = node.first;
+                stack[top + 1] = node.first + 1;
+                top += 2;
+                continue;
+            }
+            for k in node.first..node.first + node.count {
+                let p = self.polygon[k as usize];
+                if p == skip {
+                    continue;
+                }
+                if let Some(t) = intersect(o, d, &self.triangles[k as usize]) {
+                    if t > 1e-6 && t < best.map_or(f32::MAX, |b| b.0) {
+                        best = Some((t, p));
+                    }
+                }
+            }
+        }
+        best
+    }
+
     /// Is the open segment from `a` to `b` blocked by a triangle of a polygon other than
     /// `skip_a` and `skip_b` (the receiver's and the shooter's own polygons)?
     pub fn occluded(&self, a: Vec3, b: Vec3, skip_a: u32, skip_b: u32) -> bool {
