@@ -81,7 +81,7 @@ pub fn render(ctx: &GlContext, case: &Case) -> Result<Image> {
     let mut solver = GpuSolver::new(ctx, &scene, &layout, case.options())?;
     solver.solve(|_| {})?;
     let mut atlas = solver.radiosity_atlas();
-    layout.dilate_buried(&mut atlas);
+    layout.dilate(&mut atlas);
     let mesh = mesh::upload(&ctx.gl, &mesh::vertex_data(&scene, &layout))?;
     let camera = scene.camera_or_default();
     Ok(display::render(

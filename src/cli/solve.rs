@@ -370,7 +370,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     } else {
         None
     };
-    layout.dilate_buried(&mut atlas);
+    layout.dilate(&mut atlas);
     let mesh =
         crate::solver::mesh::upload(&ctx.gl, &crate::solver::mesh::vertex_data(&scene, &layout))?;
     let image = display::render(

@@ -217,34 +217,13 @@ impl PatchLayout {
         self.dilate_from(rgba, self.owner.clone());
     }
 
-    /// Like `dilate`, but patches that are exactly black in a lit polygon count as holes too:
-    /// after a solve those are patches nothing ever reached (a floor under a block), and
-    /// filtering them into their visible neighbours would draw a dark seam along the joint.
-    pub fn dilate_buried(&self, rgba: &mut [f32]) {
-        let mut lit = vec![false; self.lightmaps.len() + 1];
-        for (texel, &o) in rgba.chunks_exact(4).zip(&self.owner) {
-            lit[o as usize] |= texel[..3].iter().any(|&v| v > 0.0);
-        }
-        let mask = rgba
-            .chunks_exact(4)
-            .zip(&self.owner)
-            .map(|(t, &o)| {
-                if lit[o as usize] && t[..3].iter().all(|&v| v == 0.0) {
-                    0
-                } else {
-                    o
-                }
-            })
-            .collect();
-        self.dilate_from(rgba, mask);
-    }
-
     fn dilate_from(&self, rgba: &mut [f32], mut filled: Vec<u32>) {
         let w = self.atlas_width as i64;
         for (index, lm) in self.lightmaps.iter().enumerate() {
             let id = index as u32 + 1;
-            // Three rounds fill the gutter and texels up to two texels from a patch centre.
-            for _ in 0..3 {
+            // Grow the filled region a ring at a time until the lightmap and its gutter are full
+            // (a lightmap with no patch at all stays as it is).
+            for _ in 0..lm.w.max(lm.h) + 2 {
                 let mut writes = Vec::new();
                 for y in lm.y as i64 - 1..=(lm.y + lm.h) as i64 {
                     for x in lm.x as i64 - 1..=(lm.x + lm.w) as i64 {
@@ -280,6 +259,9 @@ impl PatchLayout {
                             writes.push((at, sum.map(|v| v / n)));
                         }
                     }
+                }
+                if writes.is_empty() {
+                    break;
                 }
                 for (at, v) in writes {
                     rgba[at * 4..at * 4 + 4].copy_from_slice(&v);
@@ -396,7 +378,24 @@ fn size_for_count(scene: &Scene, target: u32) -> f32 {
     let target = target.max(1) as u64;
     let mut size = (scene.total_area() / target as f32).sqrt();
     // Bisection on the (monotone) lightmap texel count; patches are a little fewer than texels.
+    // Thin shapes need far more texels than area / size² suggests: widen the bracket until it
+    // holds the answer.
     let (mut small, mut large) = (size * 0.25, size * 4.0);
+    // Beyond the scene's diagonal every lightmap is one texel: no larger size changes anything.
+    let (lo, hi) = scene.bounds();
+    let ceiling = 2.0 * (hi - lo).length().max(size);
+    for _ in 0..64 {
+        if count(large) <= target || large >= ceiling {
+            break;
+        }
+        large = (large * 4.0).min(ceiling);
+    }
+    for _ in 0..64 {
+        if count(small) > target || small < f32::MIN_POSITIVE * 1e6 {
+            break;
+        }
+        small *= 0.25;
+    }
     for _ in 0..40 {
         size = 0.5 * (small + large);
         if count(size) > target {

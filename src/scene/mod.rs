@@ -40,11 +40,23 @@ pub struct Polygon {
 impl Polygon {
     /// Normal (Newell's method, robust for slightly non-planar polygons), area and area centroid.
     /// `None` for a degenerate (zero-area) polygon.
-    pub fn new(vertices: Vec<Vec3>, material: usize, object: String) -> Option<Polygon> {
+    pub fn new(mut vertices: Vec<Vec3>, material: usize, object: String) -> Option<Polygon> {
+        // A vertex repeated next to itself adds no corner; it only blocks triangulation.
+        vertices.dedup();
+        while vertices.len() > 1 && vertices.first() == vertices.last() {
+            vertices.pop();
+        }
         let n = vertices.len();
+        if n < 3 {
+            return None;
+        }
+        // Newell's sums relative to the first vertex: on absolute positions their rounding grows
+        // with the square of the distance from the origin (a unit square 1e4 away came out with
+        // twice its area and a normal 53° off).
+        let o = vertices[0];
         let mut newell = Vec3::ZERO;
         for i in 0..n {
-            let (a, b) = (vertices[i], vertices[(i + 1) % n]);
+            let (a, b) = (vertices[i] - o, vertices[(i + 1) % n] - o);
             newell += a.cross(b);
         }
         let area = 0.5 * newell.length();

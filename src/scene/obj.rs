@@ -47,15 +47,16 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         .filter_map(|l| l.trim().strip_prefix("mtllib "))
     {
         let mtl = path.parent().unwrap_or(Path::new(".")).join(lib.trim());
-        match std::fs::read_to_string(&mtl) {
+        match std::fs::read(&mtl) {
             // A missing MTL is a warning: the geometry still loads (and with no emitter the
             // scene then stops with its own clear error). A malformed one is an error: a typo in
-            // Kd or Ke would otherwise silently change the light.
+            // Kd or Ke would otherwise silently change the light. Bytes that are not UTF-8 must
+            // not hide a bad line from the check (tobj would still reach it).
             Err(e) => warnings.push(format!(
                 "cannot read the material library {} ({e}); its faces are grey",
                 mtl.display()
             )),
-            Ok(mtl_text) => check_mtl(&mtl, &mtl_text)?,
+            Ok(bytes) => check_mtl(&mtl, &String::from_utf8_lossy(&bytes))?,
         }
     }
 
@@ -282,7 +283,7 @@ fn parse_camera(rest: &str) -> Option<Camera> {
 /// Check every `v` and `f` line before tobj sees the file, so an error names its line: vertices
 /// need three finite numbers, faces at least three vertices whose indices exist.
 fn check_lines(path: &Path, text: &str) -> Result<(), SceneError> {
-    let mut vertices: i64 = 0;
+    let (mut vertices, mut texcoords, mut normals): (i64, i64, i64) = (0, 0, 0);
     for (n, line) in text.lines().enumerate() {
         let bad = |what: String| SceneError::Parse {
             path: path.to_path_buf(),
@@ -308,6 +309,8 @@ fn check_lines(path: &Path, text: &str) -> Result<(), SceneError> {
                 }
                 vertices += 1;
             }
+            Some("vt") => texcoords += 1,
+            Some("vn") => normals += 1,
             Some("f") => {
                 let corners: Vec<&str> = tokens.collect();
                 if corners.len() < 3 {
@@ -317,16 +320,28 @@ fn check_lines(path: &Path, text: &str) -> Result<(), SceneError> {
                         line.trim()
                     )));
                 }
-                for c in corners {
-                    let index = c.split('/').next().and_then(|i| i.parse::<i64>().ok());
-                    let ok = match index {
-                        Some(i) if i > 0 => i <= vertices,
-                        Some(i) if i < 0 => -i <= vertices,
+                // v/vt/vn: each index must name an element defined before the face (relative
+                // ones too: tobj overflows on those that reach before the first).
+                let valid = |part: Option<&str>, count: i64, required: bool| match part {
+                    None | Some("") => !required,
+                    Some(t) => match t.parse::<i64>() {
+                        Ok(i) if i > 0 => i <= count,
+                        Ok(i) if i < 0 => i.unsigned_abs() <= count as u64,
                         _ => false,
-                    };
-                    if !ok {
+                    },
+                };
+                for c in corners {
+                    let mut parts = c.split('/');
+                    if !valid(parts.next(), vertices, true) {
                         return Err(bad(format!(
                             "face vertex `{c}` does not name one of the {vertices} vertices defined before it"
+                        )));
+                    }
+                    if !valid(parts.next(), texcoords, false)
+                        || !valid(parts.next(), normals, false)
+                    {
+                        return Err(bad(format!(
+                            "face vertex `{c}` names a texture coordinate or normal that is not defined before it ({texcoords} vt, {normals} vn)"
                         )));
                     }
                 }
@@ -387,7 +402,11 @@ fn first_bad_line(text: &str, error: &tobj::LoadError) -> Option<usize> {
                 values.len() < 3
                     || values.iter().any(|t| {
                         match t.split('/').next().and_then(|i| i.parse::<i64>().ok()) {
-                            Some(i) => i == 0 || i > positions || -i > positions,
+                            Some(i) => {
+                                i == 0
+                                    || i > positions
+                                    || i.unsigned_abs() > positions.unsigned_abs()
+                            }
                             None => true,
                         }
                     })

@@ -5,6 +5,23 @@ use glam::{Vec2, Vec3};
 
 /// Triangles as index triples into `vertices`, counter-clockwise like the polygon.
 pub fn triangulate(vertices: &[Vec3], normal: Vec3) -> Vec<[usize; 3]> {
+    // A vertex repeated next to itself adds no corner but blocks every ear: triangulate the
+    // distinct corners and map back to the caller's indices.
+    let mut keep: Vec<usize> = (0..vertices.len()).collect();
+    keep.dedup_by(|b, a| vertices[*a] == vertices[*b]);
+    while keep.len() > 3 && vertices[keep[0]] == vertices[*keep.last().unwrap()] {
+        keep.pop();
+    }
+    if keep.len() < vertices.len() {
+        let distinct: Vec<Vec3> = keep.iter().map(|&i| vertices[i]).collect();
+        if distinct.len() < 3 {
+            return Vec::new();
+        }
+        return triangulate(&distinct, normal)
+            .into_iter()
+            .map(|t| t.map(|k| keep[k]))
+            .collect();
+    }
     let u = (vertices[1] - vertices[0]).normalize_or_zero();
     let u = if u == Vec3::ZERO {
         normal.any_orthonormal_vector()

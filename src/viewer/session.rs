@@ -90,7 +90,7 @@ impl<'a> Session<'a> {
     fn refresh(&mut self) {
         let mut radiance = self.solver.radiosity_atlas();
         self.atlas.upload_f32(&radiance);
-        self.layout.dilate_buried(&mut radiance);
+        self.layout.dilate(&mut radiance);
         self.display.upload(&radiance);
         let unshot = self.solver.unshot_atlas();
         self.unshot.upload_f32(unshot);
