@@ -253,26 +253,33 @@ pub struct Stats {
     pub history: Vec<ShotRecord>,
 }
 
+/// The checks `solve` and `view` share: the stopping rule and the patch resolution.
+pub(crate) fn check_solve_settings(
+    threshold: f32,
+    patch_size: Option<f32>,
+    patches: Option<u32>,
+) -> Result<()> {
+    if !(threshold > 0.0 && threshold < 1.0) {
+        bail!("--threshold {threshold} must be between 0 and 1 (exclusive)");
+    }
+    if let Some(s) = patch_size {
+        if !(s > 0.0 && s.is_finite()) {
+            bail!("--patch-size {s} must be a positive number of scene units");
+        }
+    }
+    if patches == Some(0) {
+        bail!("--patches must be at least 1");
+    }
+    Ok(())
+}
+
 pub struct SolveOutcome {
     pub stats: Stats,
     pub out_dir: PathBuf,
 }
 
 pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
-    if !(args.threshold > 0.0 && args.threshold < 1.0) {
-        bail!(
-            "--threshold {} must be between 0 and 1 (exclusive)",
-            args.threshold
-        );
-    }
-    if let Some(s) = args.patch_size {
-        if !(s > 0.0 && s.is_finite()) {
-            bail!("--patch-size {s} must be a positive number of scene units");
-        }
-    }
-    if args.patches == Some(0) {
-        bail!("--patches must be at least 1");
-    }
+    check_solve_settings(args.threshold, args.patch_size, args.patches)?;
     let scene_path = args
         .scene
         .clone()

@@ -42,20 +42,7 @@ pub struct ViewArgs {
 }
 
 pub fn run_view(args: &ViewArgs) -> Result<()> {
-    if !(args.threshold > 0.0 && args.threshold < 1.0) {
-        bail!(
-            "--threshold {} must be between 0 and 1 (exclusive)",
-            args.threshold
-        );
-    }
-    if let Some(s) = args.patch_size {
-        if !(s > 0.0 && s.is_finite()) {
-            bail!("--patch-size {s} must be a positive number of scene units");
-        }
-    }
-    if args.patches == Some(0) {
-        bail!("--patches must be at least 1");
-    }
+    super::solve::check_solve_settings(args.threshold, args.patch_size, args.patches)?;
     if !(1..=64).contains(&args.shots_per_frame) {
         bail!("--shots-per-frame must be between 1 and 64");
     }
