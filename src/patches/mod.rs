@@ -275,6 +275,25 @@ impl PatchLayout {
 /// The bounding rectangle of a planar polygon in its own plane, oriented along whichever edge
 /// gives the smallest rectangle, cut into texels no larger than `patch_size`.
 fn fit_lightmap(vertices: &[Vec3], normal: Vec3, patch_size: f32) -> Lightmap {
+    let (u, v, lo, hi) = best_rectangle(vertices, normal);
+    let plane = normal * vertices[0].dot(normal);
+    let size = hi - lo;
+    let w = ((size.x / patch_size).ceil() as u32).max(1);
+    let h = ((size.y / patch_size).ceil() as u32).max(1);
+    Lightmap {
+        x: 0,
+        y: 0,
+        w,
+        h,
+        origin: plane + u * lo.x + v * lo.y,
+        axis_u: u * size.x,
+        axis_v: v * size.y,
+    }
+}
+
+/// The smallest bounding rectangle along one of the polygon's edges: axes u, v and the corners
+/// in (u, v) coordinates. O(n²) in the corners; it does not depend on the patch size.
+fn best_rectangle(vertices: &[Vec3], normal: Vec3) -> (Vec3, Vec3, Vec2, Vec2) {
     let n = vertices.len();
     let mut best: Option<(f32, Vec3, Vec3, Vec2, Vec2)> = None;
     for i in 0..n {
@@ -296,19 +315,7 @@ fn fit_lightmap(vertices: &[Vec3], normal: Vec3, patch_size: f32) -> Lightmap {
         }
     }
     let (_, u, v, lo, hi) = best.expect("polygons with area have a non-degenerate edge");
-    let plane = normal * vertices[0].dot(normal);
-    let size = hi - lo;
-    let w = ((size.x / patch_size).ceil() as u32).max(1);
-    let h = ((size.y / patch_size).ceil() as u32).max(1);
-    Lightmap {
-        x: 0,
-        y: 0,
-        w,
-        h,
-        origin: plane + u * lo.x + v * lo.y,
-        axis_u: u * size.x,
-        axis_v: v * size.y,
-    }
+    (u, v, lo, hi)
 }
 
 /// `subject` clipped to the convex, counter-clockwise `clip` polygon (Sutherland–Hodgman), both
@@ -365,15 +372,23 @@ pub fn inside(outline: &[Vec2], p: Vec2) -> bool {
 
 /// The patch size that gives about `target` patches: start from area / target and refine.
 fn size_for_count(scene: &Scene, target: u32) -> f32 {
+    // The rectangles once (they do not depend on the patch size); then each step of the search
+    // only divides.
+    let sizes: Vec<Vec2> = scene
+        .polygons
+        .iter()
+        .map(|p| {
+            let (_, _, lo, hi) = best_rectangle(&p.vertices, p.normal);
+            hi - lo
+        })
+        .collect();
     let count = |s: f32| -> u64 {
-        scene
-            .polygons
+        sizes
             .iter()
-            .map(|p| {
-                let lm = fit_lightmap(&p.vertices, p.normal, s);
-                lm.w as u64 * lm.h as u64
+            .map(|d| {
+                ((d.x / s).ceil().max(1.0) as u64).saturating_mul((d.y / s).ceil().max(1.0) as u64)
             })
-            .sum()
+            .fold(0u64, |a, b| a.saturating_add(b))
     };
     let target = target.max(1) as u64;
     let mut size = (scene.total_area() / target as f32).sqrt();

@@ -126,7 +126,7 @@ pub fn run(options: ViewOptions) -> Result<()> {
     );
     let patch_size = match options.patch_size.or(scene.patch_size) {
         Some(s) => s,
-        None => PatchLayout::new(&scene, Resolution::Patches(options.patches)).patch_size,
+        None => PatchLayout::try_new(&scene, Resolution::Patches(options.patches))?.patch_size,
     };
     let controls = Controls {
         running: options.screenshot.is_some(),
@@ -172,7 +172,18 @@ fn solves(v: &mut Viewer, ctx: &GlContext, scene: &Scene) -> Result<()> {
     let mut good: Option<(ViewMode, f32)> = None;
     loop {
         let c = &v.controls;
-        let layout = PatchLayout::new(scene, Resolution::PatchSize(c.patch_size));
+        let layout = match PatchLayout::try_new(scene, Resolution::PatchSize(c.patch_size)) {
+            Ok(layout) => layout,
+            Err(e) => match good {
+                None => return Err(e.into()),
+                Some((mode, size)) => {
+                    v.message = Some(format!("{e}"));
+                    (v.controls.mode, v.controls.patch_size) = (mode, size);
+                    continue;
+                }
+            },
+        };
+        let c = &v.controls;
         let session = Session::new(ctx, scene, &layout, c.mode, c.threshold);
         let mut session = match (session, good) {
             (Ok(s), _) => s,
