@@ -419,5 +419,8 @@ fn size_for_count(scene: &Scene, target: u32) -> f32 {
             large = size;
         }
     }
-    large
+    // A target is a target, not a demand: never so fine that one lightmap outgrows the atlas (a
+    // long sliver), which would refuse a scene that a slightly coarser size lays out.
+    let longest = sizes.iter().map(|d| d.max_element()).fold(0.0, f32::max);
+    large.max(longest / (MAX_ATLAS_SIDE - 2) as f32 * 1.001)
 }
