@@ -180,12 +180,6 @@ impl ReconstructionPass {
             .read_f32(glow::COLOR_ATTACHMENT1, self.width, self.height, out);
     }
 
-    /// Read the new radiosity atlas (attachment 0).
-    pub fn read_radiosity(&self, out: &mut Vec<f32>) {
-        self.fbo
-            .read_f32(glow::COLOR_ATTACHMENT0, self.width, self.height, out);
-    }
-
     /// The paper's accumulation: glCopyTexSubImage2D from the renderbuffers into the lightmaps.
     pub fn copy_into(&self, ctx: &GlContext, lightmaps: &Lightmaps) -> Result<(), GlError> {
         self.fbo

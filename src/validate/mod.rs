@@ -34,15 +34,7 @@ impl Check {
         tolerance: f64,
     ) -> Check {
         let error = ((got - expected) / expected).abs();
-        Check {
-            name: name.into(),
-            mode,
-            expected,
-            got,
-            error,
-            tolerance,
-            pass: error <= tolerance,
-        }
+        Check::with_error(name, mode, expected, got, error, tolerance)
     }
 
     /// A check whose error is measured elsewhere (e.g. the worst patch of many).
