@@ -214,59 +214,87 @@ impl PatchLayout {
     /// neighbouring patch texels of the same polygon, so that bilinear filtering at display time
     /// never mixes in black or another polygon's light.
     pub fn dilate(&self, rgba: &mut [f32]) {
-        self.dilate_from(rgba, self.owner.clone());
-    }
-
-    fn dilate_from(&self, rgba: &mut [f32], mut filled: Vec<u32>) {
-        let w = self.atlas_width as i64;
+        const NEIGHBOURS: [(i64, i64); 8] = [
+            (-1, 0),
+            (1, 0),
+            (0, -1),
+            (0, 1),
+            (-1, -1),
+            (1, -1),
+            (-1, 1),
+            (1, 1),
+        ];
+        let (w, h) = (self.atlas_width as i64, self.atlas_height as i64);
+        let mut filled = self.owner.clone();
+        // Texels already queued for the next ring (stamped with the ring number), so that a
+        // texel next to several filled ones is computed once.
+        let mut queued = vec![0u32; self.owner.len()];
+        let mut ring = Vec::new();
+        let mut next = Vec::new();
+        let mut writes: Vec<(usize, [f32; 4])> = Vec::new();
         for (index, lm) in self.lightmaps.iter().enumerate() {
             let id = index as u32 + 1;
+            let (x0, y0) = (lm.x as i64 - 1, lm.y as i64 - 1);
+            let (x1, y1) = ((lm.x + lm.w) as i64, (lm.y + lm.h) as i64);
             // Grow the filled region a ring at a time until the lightmap and its gutter are full
-            // (a lightmap with no patch at all stays as it is).
-            for _ in 0..lm.w.max(lm.h) + 2 {
-                let mut writes = Vec::new();
-                for y in lm.y as i64 - 1..=(lm.y + lm.h) as i64 {
-                    for x in lm.x as i64 - 1..=(lm.x + lm.w) as i64 {
-                        let at = (y * w + x) as usize;
-                        if filled[at] == id {
+            // (a lightmap with no patch at all stays as it is). Each ring reads only texels
+            // filled before it. Only the last ring's neighbours can join the next one, so the
+            // work is linear in the lightmap's area (a full rescan per ring is quadratic for a
+            // long sliver with few patches).
+            ring.clear();
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    if filled[(y * w + x) as usize] == id {
+                        ring.push((x, y));
+                    }
+                }
+            }
+            let mut stamp = 0u32;
+            while !ring.is_empty() {
+                stamp += 1;
+                next.clear();
+                for &(x, y) in &ring {
+                    for (dx, dy) in NEIGHBOURS {
+                        let (nx, ny) = (x + dx, y + dy);
+                        if nx < x0 || ny < y0 || nx > x1 || ny > y1 {
                             continue;
                         }
-                        let mut sum = [0f32; 4];
-                        let mut n = 0.0;
-                        for (dx, dy) in [
-                            (-1, 0),
-                            (1, 0),
-                            (0, -1),
-                            (0, 1),
-                            (-1, -1),
-                            (1, -1),
-                            (-1, 1),
-                            (1, 1),
-                        ] {
-                            let (nx, ny) = (x + dx, y + dy);
-                            if nx < 0 || ny < 0 || nx >= w || ny >= self.atlas_height as i64 {
-                                continue;
-                            }
-                            let nat = (ny * w + nx) as usize;
-                            if filled[nat] == id {
-                                for c in 0..4 {
-                                    sum[c] += rgba[nat * 4 + c];
-                                }
-                                n += 1.0;
-                            }
-                        }
-                        if n > 0.0 {
-                            writes.push((at, sum.map(|v| v / n)));
+                        let at = (ny * w + nx) as usize;
+                        if filled[at] != id && queued[at] != stamp {
+                            queued[at] = stamp;
+                            next.push((nx, ny));
                         }
                     }
                 }
-                if writes.is_empty() {
-                    break;
+                writes.clear();
+                for &(x, y) in &next {
+                    let mut sum = [0f32; 4];
+                    let mut n = 0.0;
+                    for (dx, dy) in NEIGHBOURS {
+                        let (nx, ny) = (x + dx, y + dy);
+                        if nx < 0 || ny < 0 || nx >= w || ny >= h {
+                            continue;
+                        }
+                        let nat = (ny * w + nx) as usize;
+                        if filled[nat] == id {
+                            for c in 0..4 {
+                                sum[c] += rgba[nat * 4 + c];
+                            }
+                            n += 1.0;
+                        }
+                    }
+                    writes.push(((y * w + x) as usize, sum.map(|v| v / n)));
                 }
-                for (at, v) in writes {
+                for &(at, v) in &writes {
                     rgba[at * 4..at * 4 + 4].copy_from_slice(&v);
                     filled[at] = id;
                 }
+                std::mem::swap(&mut ring, &mut next);
+            }
+            // The stamps restart at 1 for the next lightmap: clear this one's.
+            for y in y0..=y1 {
+                let row = (y * w) as usize;
+                queued[row + x0 as usize..=row + x1 as usize].fill(0);
             }
         }
     }
