@@ -27,13 +27,20 @@ uniform float ShootArea;           // area of that outline
 
 uniform int HemiCube;              // 0: hemispherical projection (paper), 1: hemicube
 uniform mat3 FaceRotation[5];      // hemicube faces: shooter eye space -> face eye space
-uniform int Robust;                // 0: nearest pixel's ID (paper); 1: 2x2 IDs or distance
+uniform int Robust;                // 0: nearest pixel's ID (paper); 1: ID or depth with slack
 uniform sampler2D HemiDistance;    // distance from the shooter to what each pixel shows
 
 out vec4 NewRadiosity;
 out vec4 NewUnshot;
 
 const float pi = 3.1415926535897932;
+// Robust visibility: how many pixels' worth of the receiver's slope the depth of what its pixel
+// shows may fall short of its own (about a pixel from its direction to the pixel's centre, and
+// room for the slope estimate).
+const float DepthSlack = 1.5;
+// Surfaces seen more edge-on than this count as this: their slope's slack stays a few pixels,
+// or light would reach under a block through its grazing edge.
+const float MinCosine = 0.25;
 
 vec4 encode_id(float id)
 {
@@ -63,7 +70,9 @@ vec2 item_coordinates(vec3 d)
     else
         face = d.y > 0.0 ? 3 : 4;
     vec3 f = FaceRotation[face] * d;
-    vec2 uv = clamp((f.xy / -f.z) * 0.5 + 0.5, 0.0, 1.0);
+    // Inside this face's own pixels: at u = 1 the nearest pixel would be the next face's first.
+    float half_pixel = 0.5 / float(textureSize(HemiItemBuffer, 0).y);
+    vec2 uv = clamp((f.xy / -f.z) * 0.5 + 0.5, half_pixel, 1.0 - half_pixel);
     return vec2((float(face) + uv.x) / 5.0, uv.y);
 }
 
@@ -75,18 +84,24 @@ bool Visible()
         return false;
     vec2 uv = item_coordinates(d);
     vec3 want = floor(encode_id(RecvId).rgb * 255.0 + 0.5);
-    if (Robust == 0)
-        return same_id(uv, want);
-    // Nothing nearer than the receiver in its pixel: visible, even where the receiver is too
-    // small to own a pixel. The tolerance (0.5 % of the distance) covers the pixel's extent.
-    if (length(d) <= texture(HemiDistance, uv).r * 1.005)
+    if (same_id(uv, want))
         return true;
-    // The 2x2 pixels around uv: a patch whose direction falls next to its polygon's edge in
-    // the item buffer still finds itself (no dark seams at joints).
-    vec2 size = vec2(textureSize(HemiItemBuffer, 0));
-    vec2 base = (floor(uv * size - 0.5) + 0.5) / size;
-    return same_id(base, want) || same_id(base + vec2(1.0, 0.0) / size, want)
-        || same_id(base + vec2(0.0, 1.0) / size, want) || same_id(base + vec2(1.0, 1.0) / size, want);
+    if (Robust == 0)
+        return false;
+    // Robust: the pixel shows something else, but is it in front of this patch (a shadow) or
+    // beside it (a joint, or a receiver too small to own a pixel)? Beside it: what the pixel
+    // shows is no nearer than the receiver's own surface could be within about a pixel, a depth
+    // range that grows as the receiver is seen edge-on (slope-scaled, as a shadow-map bias). No
+    // neighbourhood of pixels is searched for the receiver's ID: that lets light through every
+    // shadow edge.
+    float r = length(d);
+    float shown = texture(HemiDistance, uv).r;
+    vec3 n = mat3(ShooterView) * RecvNormal;
+    float grazing = max(abs(dot(d, n)) / r, MinCosine);
+    float pixel = 2.0 / float(textureSize(HemiItemBuffer, 0).y);
+    if (HemiCube == 0)
+        pixel /= max(-d.z / r, 0.1);  // the disk's pixels widen toward the horizon
+    return shown >= r * (1.0 - DepthSlack * pixel / grazing);
 }
 
 // The exact factor from this fragment (a differential area) to the shooter's outline, clipped

@@ -13,6 +13,7 @@ use gpu_radiosity::patches::{PatchLayout, Resolution};
 use gpu_radiosity::scene::Scene;
 use gpu_radiosity::solver::cpu::visibility::Bvh;
 use gpu_radiosity::solver::{GpuSolver, SolveOptions};
+use rayon::prelude::*;
 use std::f32::consts::PI;
 
 struct Rng(u64);
@@ -87,6 +88,40 @@ fn radiance(scene: &Scene, bvh: &Bvh, light: usize, p: usize, x: Vec3, rng: &mut
     total
 }
 
+/// The reference mean radiance (RGB) of polygon `p` over all its patch centres, and the relative
+/// standard error of its RGB mean: eight independent batches of `paths / 8` paths per centre.
+fn reference(
+    scene: &Scene,
+    bvh: &Bvh,
+    layout: &PatchLayout,
+    light: usize,
+    p: usize,
+    paths: usize,
+) -> (Vec3, f32) {
+    let centres = patch_centres(layout, p);
+    let batches: Vec<Vec3> = (0..8u64)
+        .into_par_iter()
+        .map(|b| {
+            let mut rng = Rng(1000 * p as u64 + 7919 * b + 1);
+            let mut sum = Vec3::ZERO;
+            for (_, x) in &centres {
+                for _ in 0..paths / 8 {
+                    sum += radiance(scene, bvh, light, p, *x, &mut rng);
+                }
+            }
+            sum / (centres.len() * (paths / 8)) as f32
+        })
+        .collect();
+    let mean = batches.iter().copied().sum::<Vec3>() / 8.0;
+    let m = lum(mean);
+    let variance = batches.iter().map(|b| (lum(*b) - m).powi(2)).sum::<f32>() / 7.0;
+    (mean, (variance / 8.0).sqrt() / m)
+}
+
+fn lum(v: Vec3) -> f32 {
+    (v.x + v.y + v.z) / 3.0
+}
+
 #[test]
 fn cornell_box_matches_a_path_traced_reference() {
     let scene = load("cornell");
@@ -105,50 +140,38 @@ fn cornell_box_matches_a_path_traced_reference() {
     solver.solve(|_| {}).unwrap();
     let atlas = solver.radiosity_atlas();
     let bvh = Bvh::new(&scene);
-    let mut rng = Rng(7);
-    let (mut worst, mut worst_large) = (0f32, 0f32);
+    let (mut worst, mut worst_noise) = (0f32, 0f32);
     for (p, polygon) in scene.polygons.iter().enumerate() {
         if p == light {
             continue;
         }
-        // Every 3rd patch centre, 256 paths each.
-        let (mut ours, mut reference, mut n) = (Vec3::ZERO, Vec3::ZERO, 0);
-        for (at, x) in patch_centres(&layout, p).into_iter().step_by(3) {
-            ours += Vec3::from_slice(&atlas[at * 4..at * 4 + 3]);
-            let mut sum = Vec3::ZERO;
-            for _ in 0..256 {
-                sum += radiance(&scene, &bvh, light, p, x, &mut rng);
-            }
-            reference += sum / 256.0;
-            n += 1;
-        }
-        let (ours, reference) = (ours / n as f32, reference / n as f32);
-        let err = ((ours - reference).abs() / reference.max(Vec3::splat(1e-4))).max_element();
-        let lum = |v: Vec3| (v.x + v.y + v.z) / 3.0;
-        let err_mean = (lum(ours) - lum(reference)).abs() / lum(reference);
+        let centres = patch_centres(&layout, p);
+        let ours = centres
+            .iter()
+            .map(|&(at, _)| Vec3::from_slice(&atlas[at * 4..at * 4 + 3]))
+            .sum::<Vec3>()
+            / centres.len() as f32;
+        // 1,024 paths at every patch centre: the darkest face's reference is good to ~1 %.
+        let (reference, noise) = reference(&scene, &bvh, &layout, light, p, 1024);
+        let err = (lum(ours) - lum(reference)) / lum(reference);
         println!(
-            "{:<12} {p:>2}: ours {:.4} {:.4} {:.4}  reference {:.4} {:.4} {:.4}  diff {:.2} % (RGB mean {:.2} %)",
-            polygon.object, ours.x, ours.y, ours.z, reference.x, reference.y, reference.z, 100.0 * err, 100.0 * err_mean
+            "{:<12} {p:>2}: ours {:.4} {:.4} {:.4}  reference {:.4} {:.4} {:.4} (± {:.2} %)  diff {:+.2} % (RGB mean)",
+            polygon.object, ours.x, ours.y, ours.z, reference.x, reference.y, reference.z,
+            100.0 * noise, 100.0 * err
         );
-        worst = worst.max(err_mean);
-        if ["floor", "ceiling", "back_wall", "red_wall", "green_wall"]
-            .contains(&polygon.object.as_str())
-        {
-            worst_large = worst_large.max(err_mean);
-        }
+        worst = worst.max(err.abs());
+        worst_noise = worst_noise.max(noise);
     }
     println!(
-        "worst region (RGB mean): {:.2} %; worst wall, floor or ceiling: {:.2} %",
+        "worst region: {:.2} % (reference standard error at most {:.2} %)",
         100.0 * worst,
-        100.0 * worst_large
+        100.0 * worst_noise
     );
-    // The walls, floor and ceiling meet the 3 % target. The blocks' dim faces (lit only
-    // indirectly) do not all yet: the worst, the short block's front, is off by up to 7 %
-    // (its reference carries Monte Carlo noise of a few % too; see paper_notes.md).
+    // The reference must be good enough to judge 3 % by.
     assert!(
-        worst_large < 0.03,
-        "a wall, the floor or the ceiling differs by {:.2} %",
-        100.0 * worst_large
+        worst_noise < 0.015,
+        "reference noise {:.2} %",
+        100.0 * worst_noise
     );
-    assert!(worst < 0.08, "a region differs by {:.2} %", 100.0 * worst);
+    assert!(worst < 0.03, "a region differs by {:.2} %", 100.0 * worst);
 }

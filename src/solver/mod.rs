@@ -58,10 +58,11 @@ pub struct SolveOptions {
     pub emitter_cell: u32,
     pub form_factor: FormFactorKind,
     pub visibility: VisibilityKind,
-    /// Robust visibility: a receiver is visible when any of the 2x2 item-buffer pixels around
-    /// its direction holds its ID, or when it is no farther than what its pixel shows (a distance
-    /// buffer beside the IDs). The paper tests the nearest pixel's ID only, which misses
-    /// receivers smaller than a pixel and darkens joints where polygons meet.
+    /// Robust visibility: a receiver is visible when its pixel holds its ID, or when what its
+    /// pixel shows (a distance buffer beside the IDs) is no nearer than the receiver's own
+    /// surface could be within that pixel (a slope-scaled depth slack). The paper tests the
+    /// nearest pixel's ID only, which misses receivers smaller than a pixel and darkens joints
+    /// where polygons meet.
     pub robust_visibility: bool,
 }
 
@@ -82,9 +83,9 @@ impl SolveOptions {
         }
     }
 
-    /// Beyond the paper (see paper_notes.md): cells of 4x4 patches shoot, with the polygon form
-    /// factor; a 256² hemicube (exact for straight edges, so nothing to tessellate) with the 2x2
-    /// ID footprint and the distance test.
+    /// Beyond the paper (see paper_notes.md): cells of 4x4 patches shoot (cut finer where a
+    /// nearby polygon's plane crosses them), with the polygon form factor; a 256² hemicube (exact
+    /// for straight edges, so nothing to tessellate) with the robust visibility test.
     pub fn accurate() -> Self {
         SolveOptions {
             hemi_res: 256,

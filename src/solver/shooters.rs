@@ -113,33 +113,96 @@ pub fn shooters_of(
             area,
         })
     };
+    // A cell shoots from one point, so everything it sends passes the visibility test of that
+    // point. Where another polygon's plane cuts through the cell near that polygon (a block
+    // standing on the floor), the receivers on that polygon see only the part of the cell in
+    // front of them, yet the point may lie behind them (no light at all) or in front (light
+    // through the block's edge): such a cell is cut into quarters, down to single patches,
+    // until no nearby plane crosses a part.
     let mut shooters = Vec::new();
+    let mut parts: Vec<[u32; 4]> = Vec::new();
     for y0 in (0..lm.h).step_by(cell as usize) {
         for x0 in (0..lm.w).step_by(cell as usize) {
-            let (x1, y1) = ((x0 + cell).min(lm.w), (y0 + cell).min(lm.h));
-            // A cell whose patches partly have nothing to shoot (buried under a block standing on
-            // the floor, or in a shadow nothing has reached yet) would spread its energy over its
-            // whole outline, dark part included: its patches with energy shoot one by one.
-            let (mut lit, mut dark) = (0, 0);
-            for t in y0..y1 {
-                for s in x0..x1 {
-                    match texel(s, t) {
-                        Some(v) if v[0] + v[1] + v[2] > 0.0 => lit += 1,
-                        Some(_) => dark += 1,
-                        None => {}
-                    }
-                }
-            }
-            if lit > 0 && dark > 0 {
-                for t in y0..y1 {
-                    for s in x0..x1 {
-                        shooters.extend(shooter(s, t, s + 1, t + 1));
-                    }
-                }
-            } else {
-                shooters.extend(shooter(x0, y0, x1, y1));
-            }
+            parts.push([x0, y0, (x0 + cell).min(lm.w), (y0 + cell).min(lm.h)]);
         }
     }
+    while let Some([x0, y0, x1, y1]) = parts.pop() {
+        // A cell whose patches partly have nothing to shoot (buried under a block standing on
+        // the floor, or in a shadow nothing has reached yet) would spread its energy over its
+        // whole outline, dark part included: its patches with energy shoot one by one.
+        let (mut lit, mut dark) = (0, 0);
+        for t in y0..y1 {
+            for s in x0..x1 {
+                match texel(s, t) {
+                    Some(v) if v[0] + v[1] + v[2] > 0.0 => lit += 1,
+                    Some(_) => dark += 1,
+                    None => {}
+                }
+            }
+        }
+        if lit == 0 {
+            continue;
+        }
+        let single = x1 - x0 == 1 && y1 - y0 == 1;
+        if dark > 0 && !single {
+            for t in y0..y1 {
+                for s in x0..x1 {
+                    parts.push([s, t, s + 1, t + 1]);
+                }
+            }
+        } else if !single && crossed_nearby(scene, p, lm, [x0, y0, x1, y1]) {
+            let (xm, ym) = ((x0 + x1).div_ceil(2), (y0 + y1).div_ceil(2));
+            for [a, b, c, d] in [
+                [x0, y0, xm, ym],
+                [xm, y0, x1, ym],
+                [x0, ym, xm, y1],
+                [xm, ym, x1, y1],
+            ] {
+                if a < c && b < d {
+                    parts.push([a, b, c, d]);
+                }
+            }
+        } else {
+            shooters.extend(shooter(x0, y0, x1, y1));
+        }
+    }
+    // The order of the parts does not change the result but keeps it easy to follow (row by row).
+    shooters.sort_by_key(|s| (s.texels[1], s.texels[0]));
     shooters
+}
+
+/// Does the plane of another polygon near the lightmap rectangle `[x0, y0, x1, y1)` of polygon
+/// `p` cut through it? "Near": the other polygon's bounding box comes within the rectangle's
+/// diagonal of the rectangle's centre.
+fn crossed_nearby(scene: &Scene, p: usize, lm: &Lightmap, [x0, y0, x1, y1]: [u32; 4]) -> bool {
+    let corners = [
+        lm.world(x0 as f32, y0 as f32),
+        lm.world(x1 as f32, y0 as f32),
+        lm.world(x1 as f32, y1 as f32),
+        lm.world(x0 as f32, y1 as f32),
+    ];
+    let centre = corners.iter().copied().sum::<Vec3>() / 4.0;
+    let reach = (corners[2] - corners[0]).length();
+    // Planes that merely touch the cell (a wall meeting the floor along its edge) do not count.
+    let slack = 1e-3 * reach;
+    let normal = scene.polygons[p].normal;
+    scene.polygons.iter().enumerate().any(|(q, other)| {
+        if q == p || other.normal.dot(normal).abs() > 0.999 {
+            return false;
+        }
+        let Some((lo, hi)) = crate::scene::bounds(&other.vertices) else {
+            return false;
+        };
+        if centre.clamp(lo, hi).distance(centre) > reach {
+            return false;
+        }
+        let anchor = other.vertices[0];
+        let (mut below, mut above) = (false, false);
+        for c in corners {
+            let d = (c - anchor).dot(other.normal);
+            below |= d < -slack;
+            above |= d > slack;
+        }
+        below && above
+    })
 }
