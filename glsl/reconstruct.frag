@@ -5,10 +5,15 @@
 // glCopyTexSubImage2D); here the addition is done in this shader and the host copies the sums
 // over the old textures.
 
-in vec3 RecvPos;
-flat in vec3 RecvNormal;
-flat in vec3 RecvColor;
-flat in float RecvId;
+uniform sampler2D PatchPosition;   // per patch: world position, polygon ID + 1 (0: no patch)
+uniform sampler2D PatchNormal;
+uniform sampler2D PatchReflectance;
+
+// This fragment's patch, read from the atlas textures (see patchdata.frag) at the start of main.
+vec3 RecvPos = vec3(0.0);
+vec3 RecvNormal = vec3(0.0, 0.0, 1.0);
+vec3 RecvColor = vec3(0.0);
+float RecvId = -1.0;
 
 uniform sampler2D HemiItemBuffer;  // visibility pass result (RGBA8 IDs)
 uniform sampler2D Radiosity;       // accumulated radiance per patch (alpha: ID + 1)
@@ -159,6 +164,13 @@ vec3 FormFactorEnergy()
 void main()
 {
     ivec2 texel = ivec2(gl_FragCoord.xy);
+    vec4 position = texelFetch(PatchPosition, texel, 0);
+    if (position.w == 0.0)
+        discard;  // not a patch: the attachments keep their cleared zero
+    RecvPos = position.xyz;
+    RecvId = position.w - 1.0;
+    RecvNormal = texelFetch(PatchNormal, texel, 0).xyz;
+    RecvColor = texelFetch(PatchReflectance, texel, 0).rgb;
     vec4 radiosity = texelFetch(Radiosity, texel, 0);
     vec4 unshot = texelFetch(Unshot, texel, 0);
     // A planar shooter sends nothing to itself.

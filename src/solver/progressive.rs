@@ -236,7 +236,6 @@ impl<'a> GpuSolver<'a> {
             let t1 = Instant::now();
             self.reconstruction.run(
                 ctx,
-                &self.mesh,
                 &self.visibility,
                 &self.lightmaps,
                 shooter,

@@ -3,6 +3,11 @@
 //! fragment shader tests visibility against the item buffer and computes the form factor and the
 //! received energy; the results are copied into the lightmap textures with glCopyTexSubImage2D.
 //!
+//! The receivers are rasterised once, at initialisation, into atlas textures holding each patch's
+//! position, normal and reflectance (`glsl/patchdata.frag`); every pass then draws one quad over
+//! the atlas and reads them (on llvmpipe, setting up the triangles of 1,602 small polygons cost
+//! more than all of the pass's fragment work).
+//!
 //! Two attachments: 0 = radiosity + ΔL, 1 = unshot + ΔL (the shooter's own unshot cleared).
 //! The paper adds with GL_ADD while copying; a copy cannot add, so the shader adds the old value
 //! it reads from the texture, and the copy replaces the texture with the sum: same result.
@@ -10,6 +15,7 @@
 use super::mesh::ATTRIBUTES;
 use super::visibility::{face_rotations, VisibilityPass};
 use super::{FormFactorKind, Shooter, SolveOptions, VisibilityKind};
+use crate::gl::objects::Attribute;
 use crate::gl::{
     Framebuffer, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
 };
@@ -45,9 +51,21 @@ impl Lightmaps {
     }
 }
 
+/// Each patch's geometry as atlas textures (RGBA32F): position + polygon ID + 1, normal, Kd.
+struct PatchData {
+    program: Program,
+    position: Texture,
+    normal: Texture,
+    reflectance: Texture,
+    fbo: Framebuffer,
+}
+
 pub struct ReconstructionPass {
     program: Program,
     emission: Program,
+    patches: PatchData,
+    /// Two triangles covering the atlas.
+    quad: Mesh,
     _radiosity_rb: Renderbuffer,
     _unshot_rb: Renderbuffer,
     fbo: Framebuffer,
@@ -61,11 +79,51 @@ impl ReconstructionPass {
         let outputs = &[(0, "NewRadiosity"), (1, "NewUnshot")];
         let program = Program::new(
             gl,
-            glsl!("lightmap.vert"),
+            glsl!("atlas.vert"),
             glsl!("reconstruct.frag"),
-            ATTRIBUTES,
+            &[(0, "Corner")],
             outputs,
         )?;
+        let quad = Mesh::new(
+            gl,
+            &[
+                -1.0, -1.0, 1.0, -1.0, 1.0, 1.0, -1.0, -1.0, 1.0, 1.0, -1.0, 1.0,
+            ],
+            2,
+            &[Attribute {
+                location: 0,
+                size: 2,
+                offset: 0,
+            }],
+        )?;
+        let make = || Texture::new(gl, width, height, TextureFormat::Rgba32F, glow::NEAREST);
+        let patches = PatchData {
+            program: Program::new(
+                gl,
+                glsl!("lightmap.vert"),
+                glsl!("patchdata.frag"),
+                ATTRIBUTES,
+                &[
+                    (0, "PatchPosition"),
+                    (1, "PatchNormal"),
+                    (2, "PatchReflectance"),
+                ],
+            )?,
+            position: make()?,
+            normal: make()?,
+            reflectance: make()?,
+            fbo: Framebuffer::new(gl)?,
+        };
+        patches
+            .fbo
+            .attach_texture(glow::COLOR_ATTACHMENT0, &patches.position);
+        patches
+            .fbo
+            .attach_texture(glow::COLOR_ATTACHMENT1, &patches.normal);
+        patches
+            .fbo
+            .attach_texture(glow::COLOR_ATTACHMENT2, &patches.reflectance);
+        patches.fbo.check_complete(INIT_NAME)?;
         let emission = Program::new(
             gl,
             glsl!("lightmap.vert"),
@@ -84,6 +142,8 @@ impl ReconstructionPass {
         Ok(ReconstructionPass {
             program,
             emission,
+            patches,
+            quad,
             _radiosity_rb: radiosity_rb,
             _unshot_rb: unshot_rb,
             fbo,
@@ -108,8 +168,28 @@ impl ReconstructionPass {
         }
     }
 
-    /// Write each patch's emitted radiance (and its polygon ID in alpha) into both attachments.
+    /// Rasterise every patch's geometry into the patch textures, then write each patch's emitted
+    /// radiance (and its polygon ID in alpha) into both attachments.
     pub fn emit(&self, ctx: &GlContext, mesh: &Mesh) -> Result<(), GlError> {
+        let gl = &ctx.gl;
+        self.patches.fbo.bind();
+        unsafe {
+            gl.viewport(0, 0, self.width, self.height);
+            gl.draw_buffers(&[
+                glow::COLOR_ATTACHMENT0,
+                glow::COLOR_ATTACHMENT1,
+                glow::COLOR_ATTACHMENT2,
+            ]);
+            gl.disable(glow::DEPTH_TEST);
+            gl.disable(glow::BLEND);
+            gl.disable(glow::CULL_FACE);
+            gl.disable(glow::SCISSOR_TEST);
+            gl.clear_color(0.0, 0.0, 0.0, 0.0);
+            gl.clear(glow::COLOR_BUFFER_BIT);
+        }
+        self.patches.program.use_program();
+        mesh.draw();
+        ctx.check(INIT_NAME)?;
         self.begin(ctx);
         self.emission.use_program();
         mesh.draw();
@@ -121,7 +201,6 @@ impl ReconstructionPass {
     pub fn run(
         &self,
         ctx: &GlContext,
-        mesh: &Mesh,
         visibility: &VisibilityPass,
         lightmaps: &Lightmaps,
         shooter: &Shooter,
@@ -133,6 +212,12 @@ impl ReconstructionPass {
         visibility.distance.bind(3);
         lightmaps.radiosity.bind(1);
         lightmaps.unshot.bind(2);
+        self.patches.position.bind(4);
+        self.patches.normal.bind(5);
+        self.patches.reflectance.bind(6);
+        self.program.set_i32("PatchPosition", 4);
+        self.program.set_i32("PatchNormal", 5);
+        self.program.set_i32("PatchReflectance", 6);
         self.program.set_i32("HemiItemBuffer", 0);
         self.program.set_i32("Radiosity", 1);
         self.program.set_i32("Unshot", 2);
@@ -167,7 +252,7 @@ impl ReconstructionPass {
         p.set_mat3_array("FaceRotation", &rotations);
         p.set_i32("Robust", options.robust_visibility as i32);
         p.set_i32("HemiDistance", 3);
-        mesh.draw();
+        self.quad.draw();
         unsafe {
             ctx.gl.active_texture(glow::TEXTURE0);
         }

@@ -1,0 +1,11 @@
+#version 130
+// Reconstruction pass, vertex stage: one quad over the whole atlas (every receiver's lightmap at
+// once); the fragment stage reads each patch's geometry from the atlas textures patchdata.frag
+// wrote.
+
+in vec2 Corner;
+
+void main()
+{
+    gl_Position = vec4(Corner, 0.0, 1.0);
+}
