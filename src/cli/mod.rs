@@ -1,6 +1,6 @@
 //! The command line: one file per subcommand.
 
-mod bench;
+pub mod bench;
 mod check;
 mod info;
 mod scene;
