@@ -153,16 +153,27 @@ impl ReconstructionPass {
     }
 
     fn begin(&self, ctx: &GlContext) {
+        Self::target(
+            ctx,
+            &self.fbo,
+            &[glow::COLOR_ATTACHMENT0, glow::COLOR_ATTACHMENT1],
+            self.width,
+            self.height,
+        );
+    }
+
+    /// Bind `fbo` for drawing flat into the atlas: its `buffers`, no depth, blending, culling
+    /// or scissor, cleared to zero (texels that are no patch stay zero: alpha 0, no polygon).
+    fn target(ctx: &GlContext, fbo: &Framebuffer, buffers: &[u32], width: i32, height: i32) {
         let gl = &ctx.gl;
-        self.fbo.bind();
+        fbo.bind();
         unsafe {
-            gl.viewport(0, 0, self.width, self.height);
-            gl.draw_buffers(&[glow::COLOR_ATTACHMENT0, glow::COLOR_ATTACHMENT1]);
+            gl.viewport(0, 0, width, height);
+            gl.draw_buffers(buffers);
             gl.disable(glow::DEPTH_TEST);
             gl.disable(glow::BLEND);
             gl.disable(glow::CULL_FACE);
             gl.disable(glow::SCISSOR_TEST);
-            // Texels that are no patch stay zero (alpha 0: no polygon).
             gl.clear_color(0.0, 0.0, 0.0, 0.0);
             gl.clear(glow::COLOR_BUFFER_BIT);
         }
@@ -171,22 +182,17 @@ impl ReconstructionPass {
     /// Rasterise every patch's geometry into the patch textures, then write each patch's emitted
     /// radiance (and its polygon ID in alpha) into both attachments.
     pub fn emit(&self, ctx: &GlContext, mesh: &Mesh) -> Result<(), GlError> {
-        let gl = &ctx.gl;
-        self.patches.fbo.bind();
-        unsafe {
-            gl.viewport(0, 0, self.width, self.height);
-            gl.draw_buffers(&[
+        Self::target(
+            ctx,
+            &self.patches.fbo,
+            &[
                 glow::COLOR_ATTACHMENT0,
                 glow::COLOR_ATTACHMENT1,
                 glow::COLOR_ATTACHMENT2,
-            ]);
-            gl.disable(glow::DEPTH_TEST);
-            gl.disable(glow::BLEND);
-            gl.disable(glow::CULL_FACE);
-            gl.disable(glow::SCISSOR_TEST);
-            gl.clear_color(0.0, 0.0, 0.0, 0.0);
-            gl.clear(glow::COLOR_BUFFER_BIT);
-        }
+            ],
+            self.width,
+            self.height,
+        );
         self.patches.program.use_program();
         mesh.draw();
         ctx.check(INIT_NAME)?;
