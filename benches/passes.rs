@@ -33,19 +33,18 @@ fn passes(c: &mut Criterion) {
     let shooters = solver.shooters_of(solver.next_polygon().unwrap());
     let shooter = &shooters[0];
 
-    let (lo, hi) = scene.bounds();
-    let geometry = mesh::upload(&ctx.gl, &mesh::vertex_data(&scene, &layout)).unwrap();
-    let (w, h) = (layout.atlas_width as i32, layout.atlas_height as i32);
-    let visibility = VisibilityPass::new(
-        &ctx,
-        options.visibility,
-        options.hemi_res,
-        (hi - lo).length(),
+    let geometry = mesh::upload_scene(
+        &ctx.gl,
+        &mesh::vertex_data(&scene, &layout),
+        scene.polygons.len(),
     )
     .unwrap();
-    let reconstruction = ReconstructionPass::new(&ctx, w, h).unwrap();
+    let (w, h) = (layout.atlas_width as i32, layout.atlas_height as i32);
+    let mut visibility =
+        VisibilityPass::new(&ctx, options.visibility, options.hemi_res, &scene).unwrap();
+    let mut reconstruction = ReconstructionPass::new(&ctx, &scene, &layout).unwrap();
     let lightmaps = Lightmaps::new(&ctx, w, h).unwrap();
-    reconstruction.emit(&ctx, &geometry).unwrap();
+    reconstruction.emit(&ctx, &geometry.mesh).unwrap();
     reconstruction.copy_into(&ctx, &lightmaps).unwrap();
     finish();
 

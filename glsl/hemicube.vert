@@ -4,19 +4,16 @@
 // edges straight, so the rasteriser draws them exactly.
 
 uniform mat4 FaceViewProjection;  // projection * face rotation * shooter view
-uniform mat4 ShooterView;         // world -> shooter eye space
 uniform float ShooterId;          // the shooter is not drawn (see hemiproj.vert)
 
 in vec3 Position;
 in float PolygonId;
 
 flat out float ItemId;
-out vec3 EyePos;                  // for the distance buffer
 
 void main()
 {
     ItemId = PolygonId;
-    EyePos = (ShooterView * vec4(Position, 1.0)).xyz;
     gl_Position = (PolygonId == ShooterId) ? vec4(0.0, 0.0, 2.0, 1.0)
                                            : FaceViewProjection * vec4(Position, 1.0);
 }

@@ -13,7 +13,6 @@ in vec3 Position;
 in float PolygonId;
 
 flat out float ItemId;
-out vec3 EyePos;            // for the distance buffer (linear: w is the same at every vertex)
 
 vec4 hemiproj(vec3 world)
 {
@@ -30,7 +29,6 @@ vec4 hemiproj(vec3 world)
 void main()
 {
     ItemId = PolygonId;
-    EyePos = (ShooterView * vec4(Position, 1.0)).xyz;
     // A planar shooter lies in its own z = 0 plane; drawn, its triangles would be clipped at the
     // near plane into slivers that the linear rasteriser smears across the disk (with any
     // non-planarity). Put it beyond the far plane instead.

@@ -1,13 +1,10 @@
 #version 130
-// Visibility pass, fragment stage: write the polygon's ID as a colour (the item buffer), and
-// the distance from the shooter beside it (used by the robust visibility test).
+// Visibility pass, fragment stage: write the polygon's ID as a colour (the item buffer).
 // ID + 1 is spread over the red, green and blue bytes so 0 means "no polygon" and up to 2^24 - 1
 // polygons are told apart exactly in an RGBA8 texture.
 
 flat in float ItemId;
-in vec3 EyePos;
 out vec4 Color;
-out float Distance;
 
 vec4 encode_id(float id)
 {
@@ -18,5 +15,4 @@ vec4 encode_id(float id)
 void main()
 {
     Color = encode_id(ItemId);
-    Distance = length(EyePos);
 }

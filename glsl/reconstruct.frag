@@ -32,30 +32,20 @@ uniform float ShootArea;           // area of that outline
 
 uniform int HemiCube;              // 0: hemispherical projection (paper), 1: hemicube
 uniform mat3 FaceRotation[5];      // hemicube faces: shooter eye space -> face eye space
-uniform int Robust;                // 0: nearest pixel's ID (paper); 1: ID or depth with slack
-uniform sampler2D HemiDistance;    // distance from the shooter to what each pixel shows
+uniform int Robust;                // 0: nearest pixel's ID (paper); 1: ID, or the shown plane
+uniform sampler2D PolygonPlanes;   // per polygon ID (row-major, width PlanesWidth): n, n.x
+uniform int PlanesWidth;
+uniform float PlaneSlack;          // world units: how far beyond a plane counts as behind it
 
 out vec4 NewRadiosity;
 out vec4 NewUnshot;
 
 const float pi = 3.1415926535897932;
-// Robust visibility: how many pixels' worth of the receiver's slope the depth of what its pixel
-// shows may fall short of its own (about a pixel from its direction to the pixel's centre, and
-// room for the slope estimate).
-const float DepthSlack = 1.5;
-// Surfaces seen more edge-on than this count as this: their slope's slack stays a few pixels,
-// or light would reach under a block through its grazing edge.
-const float MinCosine = 0.25;
 
 vec4 encode_id(float id)
 {
     int n = int(id + 0.5) + 1;
     return vec4(float(n & 255), float((n >> 8) & 255), float((n >> 16) & 255), 255.0) / 255.0;
-}
-
-bool same_id(vec2 uv, vec3 want)
-{
-    return all(equal(floor(texture(HemiItemBuffer, uv).rgb * 255.0 + 0.5), want));
 }
 
 // Where the direction d (shooter eye space) lands in the item buffer, in [0,1]^2.
@@ -87,57 +77,66 @@ bool Visible()
     vec3 d = (ShooterView * vec4(RecvPos, 1.0)).xyz;
     if (d.z >= 0.0)
         return false;
-    vec2 uv = item_coordinates(d);
-    vec3 want = floor(encode_id(RecvId).rgb * 255.0 + 0.5);
-    if (same_id(uv, want))
+    vec3 shown = floor(texture(HemiItemBuffer, item_coordinates(d)).rgb * 255.0 + 0.5);
+    if (all(equal(shown, floor(encode_id(RecvId).rgb * 255.0 + 0.5))))
         return true;
     if (Robust == 0)
         return false;
-    // Robust: the pixel shows something else, but is it in front of this patch (a shadow) or
-    // beside it (a joint, or a receiver too small to own a pixel)? Beside it: what the pixel
-    // shows is no nearer than the receiver's own surface could be within about a pixel, a depth
-    // range that grows as the receiver is seen edge-on (slope-scaled, as a shadow-map bias). No
-    // neighbourhood of pixels is searched for the receiver's ID: that lets light through every
-    // shadow edge.
-    float r = length(d);
-    float shown = texture(HemiDistance, uv).r;
-    vec3 n = mat3(ShooterView) * RecvNormal;
-    float grazing = max(abs(dot(d, n)) / r, MinCosine);
-    float pixel = 2.0 / float(textureSize(HemiItemBuffer, 0).y);
-    if (HemiCube == 0)
-        pixel /= max(-d.z / r, 0.1);  // the disk's pixels widen toward the horizon
-    return shown >= r * (1.0 - DepthSlack * pixel / grazing);
+    // Robust: the pixel shows another polygon X (or nothing). X hides this patch only if the
+    // segment from the shooter to the patch crosses X's plane, i.e. the two lie on opposite
+    // sides of it. Exact wherever X covers this patch's direction, whatever the angle: a
+    // neighbour at a joint, a coplanar neighbour, or what lies behind a patch too small to own a
+    // pixel do not hide it; a glass pane or a door a few millimetres in front of a wall does
+    // (a depth comparison with slack cannot tell those apart at a pixel's resolution).
+    int n = int(shown.r) + 256 * int(shown.g) + 65536 * int(shown.b);
+    if (n == 0)
+        return true;
+    vec4 plane = texelFetch(PolygonPlanes, ivec2((n - 1) % PlanesWidth, (n - 1) / PlanesWidth), 0);
+    float hs = dot(plane.xyz, ShootPos) - plane.w;
+    float hr = dot(plane.xyz, RecvPos) - plane.w;
+    return !(abs(hs) > PlaneSlack && abs(hr) > PlaneSlack && (hs > 0.0) != (hr > 0.0));
+}
+
+// One edge's term of Lambert's contour integral, from corner a to corner b (relative to the
+// receiver): the angle the edge subtends times the cosine of its plane with the receiver's
+// normal. Scale-free, so a and b need no normalising; zero for a degenerate edge.
+float EdgeTerm(vec3 a, vec3 b)
+{
+    vec3 c = cross(a, b);
+    float len = length(c);
+    return atan(len, dot(a, b)) * dot(c, RecvNormal) / max(len, 1e-30);
 }
 
 // The exact factor from this fragment (a differential area) to the shooter's outline, clipped
-// to the fragment's side of its tangent plane (Lambert's contour integral).
+// to the fragment's side of its tangent plane (Lambert's contour integral). The convex outline
+// leaves that side at most once and comes back at most once: the clipped outline is its edges
+// above the plane, cut where they cross it, closed by one edge along the plane from the exit to
+// the entry point. Written without branches or a local array: llvmpipe runs a block of
+// fragments in lockstep, through both sides of every branch they disagree on, and spills a
+// dynamically indexed local array to memory; this way each edge costs one EdgeTerm.
 float PolygonFormFactor()
 {
     if (dot(ShootNormal, RecvPos - ShootCorners[0]) <= 0.0)
         return 0.0;
-    vec3 clipped[13];
-    int m = 0;
-    for (int k = 0; k < ShootCornerCount; ++k) {
-        vec3 a = ShootCorners[k] - RecvPos;
-        vec3 b = ShootCorners[k + 1 < ShootCornerCount ? k + 1 : 0] - RecvPos;
-        float da = dot(a, RecvNormal);
-        float db = dot(b, RecvNormal);
-        if (da > 0.0)
-            clipped[m++] = a;
-        if ((da > 0.0) != (db > 0.0))
-            clipped[m++] = a + (b - a) * (da / (da - db));
-    }
-    if (m < 3)
-        return 0.0;
+    vec3 a = ShootCorners[ShootCornerCount - 1] - RecvPos;
+    float da = dot(a, RecvNormal);
     float sum = 0.0;
-    for (int k = 0; k < m; ++k) {
-        vec3 a = normalize(clipped[k]);
-        vec3 b = normalize(clipped[k + 1 < m ? k + 1 : 0]);
-        vec3 c = cross(a, b);
-        float len = length(c);
-        if (len > 1e-12)
-            sum += acos(clamp(dot(a, b), -1.0, 1.0)) * dot(c / len, RecvNormal);
+    vec3 exit_point = vec3(0.0);   // both stay zero when nothing is clipped: a null closing edge
+    vec3 entry_point = vec3(0.0);
+    for (int k = 0; k < ShootCornerCount; ++k) {
+        vec3 b = ShootCorners[k] - RecvPos;
+        float db = dot(b, RecvNormal);
+        bool above_a = da > 0.0;
+        bool crossing = above_a != (db > 0.0);
+        vec3 p = a + (b - a) * (crossing ? da / (da - db) : 0.0);
+        exit_point = (crossing && above_a) ? p : exit_point;
+        entry_point = (crossing && !above_a) ? p : entry_point;
+        float term = EdgeTerm((crossing && !above_a) ? p : a, (crossing && above_a) ? p : b);
+        sum += (above_a || db > 0.0) ? term : 0.0;
+        a = b;
+        da = db;
     }
+    sum += EdgeTerm(exit_point, entry_point);
     return min(abs(sum) / (2.0 * pi), 1.0);
 }
 

@@ -156,3 +156,26 @@ fn hemicube_from_a_wall_of_the_box() {
         .unwrap() as u32;
     assert_eq!(ids[(32 * 5 * 64 + 32) as usize], Some(opposite));
 }
+
+#[test]
+fn hemicube_in_the_furnished_room_matches_ray_casting() {
+    // The simple Table 1 room: furniture everywhere, so each hemicube face draws only the
+    // polygons whose bounding spheres reach into it (and above the shooter's horizon). Culling
+    // must never drop a polygon that a looked-up pixel shows.
+    let scene = load("simple");
+    let find = |name: &str| {
+        scene
+            .polygons
+            .iter()
+            .position(|p| p.object == name)
+            .unwrap_or_else(|| panic!("no polygon of {name}"))
+    };
+    for name in ["light_study_1", "desk_1", "wall_study_8"] {
+        let (agreement, _) = compare(&scene, find(name), 0.0, 64, VisibilityKind::Hemicube);
+        println!(
+            "simple room from {name}, hemicube: {:.3} %",
+            100.0 * agreement
+        );
+        assert!(agreement > 0.995, "{name}: agreement {agreement}");
+    }
+}

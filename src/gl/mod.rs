@@ -11,7 +11,7 @@ pub mod window;
 
 pub use check::GlError;
 pub use context::{BackendChoice, BackendKind, GlContext, GlInfo};
-pub use objects::{Framebuffer, Mesh, Renderbuffer, Texture, TextureFormat};
+pub use objects::{Framebuffer, IndexStream, Mesh, Renderbuffer, Texture, TextureFormat};
 pub use program::Program;
 
 /// The GL handle every wrapper shares; it lives as long as the last object made with it.

@@ -361,6 +361,69 @@ impl Mesh {
             self.gl.bind_vertex_array(None);
         }
     }
+
+    /// Draw the triangles whose vertex numbers are `indices.data[first..first + count]` (as
+    /// last uploaded with [`IndexStream::upload`]).
+    pub fn draw_indexed(&self, indices: &IndexStream, first: usize, count: usize) {
+        if count == 0 {
+            return;
+        }
+        unsafe {
+            self.gl.bind_vertex_array(Some(self.vao));
+            self.gl
+                .bind_buffer(glow::ELEMENT_ARRAY_BUFFER, Some(indices.ebo));
+            self.gl.draw_elements(
+                glow::TRIANGLES,
+                count as i32,
+                glow::UNSIGNED_INT,
+                (first * 4) as i32,
+            );
+            self.gl.bind_vertex_array(None);
+            self.gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, None);
+        }
+    }
+}
+
+/// A list of vertex numbers that changes from draw to draw (e.g. the triangles left after
+/// culling), in one element buffer.
+pub struct IndexStream {
+    gl: Gl,
+    ebo: glow::Buffer,
+}
+
+impl IndexStream {
+    pub fn new(gl: &Gl) -> Result<Self, GlError> {
+        let ebo = unsafe { gl.create_buffer().map_err(GlError::Limit)? };
+        Ok(IndexStream {
+            gl: gl.clone(),
+            ebo,
+        })
+    }
+
+    /// Replace the list. glBufferData gives the buffer new storage ("orphaning"), so draws
+    /// still queued with the old list never make this wait for them.
+    pub fn upload(&self, indices: &[u32]) {
+        // u32 has no padding and any bit pattern is a valid u8 sequence.
+        let bytes = unsafe {
+            std::slice::from_raw_parts(
+                indices.as_ptr().cast::<u8>(),
+                std::mem::size_of_val(indices),
+            )
+        };
+        unsafe {
+            self.gl
+                .bind_buffer(glow::ELEMENT_ARRAY_BUFFER, Some(self.ebo));
+            self.gl
+                .buffer_data_u8_slice(glow::ELEMENT_ARRAY_BUFFER, bytes, glow::STREAM_DRAW);
+            self.gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, None);
+        }
+    }
+}
+
+impl Drop for IndexStream {
+    fn drop(&mut self) {
+        unsafe { self.gl.delete_buffer(self.ebo) };
+    }
 }
 
 impl Drop for Mesh {

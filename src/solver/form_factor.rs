@@ -17,39 +17,54 @@ pub fn point(receiver: Vec3, receiver_normal: Vec3, shooter: Vec3, shooter_norma
     (receiver_normal.dot(r) * -shooter_normal.dot(r)).max(0.0) / (PI * d2)
 }
 
+/// One edge's term of Lambert's contour integral, corners `a` to `b` relative to the receiver:
+/// the angle the edge subtends times the cosine between its plane and the receiver's normal.
+fn edge_term(a: Vec3, b: Vec3, n: Vec3) -> f32 {
+    let c = a.cross(b);
+    let len = c.length();
+    if len > 0.0 {
+        len.atan2(a.dot(b)) * c.dot(n) / len
+    } else {
+        0.0
+    }
+}
+
 /// Factor from a differential area at `x` (normal `n`) to the convex polygon `corners` (normal
-/// `polygon_normal`); 0 when `x` is behind the polygon.
+/// `polygon_normal`); 0 when `x` is behind the polygon. The polygon is clipped to the receiver's
+/// side of its tangent plane edge by edge, as `glsl/reconstruct.frag` does: a convex outline
+/// leaves that side at most once and comes back at most once, so the clipped outline is the
+/// edges above the plane, cut where they cross it, closed by one edge from the exit to the entry
+/// point (no list of clipped corners, no allocation).
 pub fn polygon(x: Vec3, n: Vec3, corners: &[Vec3], polygon_normal: Vec3) -> f32 {
+    let Some(&last) = corners.last() else {
+        return 0.0;
+    };
     if polygon_normal.dot(x - corners[0]) <= 0.0 {
         return 0.0;
     }
-    // Clip to the receiver's hemisphere (Sutherland–Hodgman against its tangent plane).
-    let mut clipped: Vec<Vec3> = Vec::with_capacity(corners.len() + 1);
-    for k in 0..corners.len() {
-        let a = corners[k] - x;
-        let b = corners[(k + 1) % corners.len()] - x;
-        let (da, db) = (a.dot(n), b.dot(n));
-        if da > 0.0 {
-            clipped.push(a);
+    let mut a = last - x;
+    let mut da = a.dot(n);
+    let (mut sum, mut exit, mut entry) = (0.0, Vec3::ZERO, Vec3::ZERO);
+    for &corner in corners {
+        let b = corner - x;
+        let db = b.dot(n);
+        let cut = || a + (b - a) * (da / (da - db));
+        match (da > 0.0, db > 0.0) {
+            (true, true) => sum += edge_term(a, b, n),
+            (true, false) => {
+                exit = cut();
+                sum += edge_term(a, exit, n);
+            }
+            (false, true) => {
+                entry = cut();
+                sum += edge_term(entry, b, n);
+            }
+            (false, false) => {}
         }
-        if (da > 0.0) != (db > 0.0) {
-            clipped.push(a + (b - a) * (da / (da - db)));
-        }
+        a = b;
+        da = db;
     }
-    let m = clipped.len();
-    if m < 3 {
-        return 0.0;
-    }
-    let mut sum = 0.0;
-    for k in 0..m {
-        let a = clipped[k].normalize();
-        let b = clipped[(k + 1) % m].normalize();
-        let c = a.cross(b);
-        let len = c.length();
-        if len > 1e-12 {
-            sum += a.dot(b).clamp(-1.0, 1.0).acos() * (c / len).dot(n);
-        }
-    }
+    sum += edge_term(exit, entry, n);
     (sum.abs() / (2.0 * PI)).min(1.0)
 }
 

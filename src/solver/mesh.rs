@@ -24,6 +24,8 @@ pub const ATTRIBUTES: &[(u32, &str)] = &[
 ];
 
 const FLOATS: i32 = 15;
+/// Where in a vertex its polygon ID is (floats from the start).
+const ID_OFFSET: i32 = 8;
 
 /// The vertex data: per triangle corner position, normal, atlas UV, polygon ID, Kd, Ke.
 pub fn vertex_data(scene: &Scene, layout: &PatchLayout) -> Vec<f32> {
@@ -89,6 +91,34 @@ pub fn tessellated_data(scene: &Scene, layout: &PatchLayout, max_edge: f32) -> V
     data
 }
 
+/// The scene's vertex buffer and where each polygon's triangles lie in it (polygon `i`: vertices
+/// `ranges[i].0 .. ranges[i].0 + ranges[i].1`), so a pass can draw only the polygons it needs.
+pub struct SceneMesh {
+    pub mesh: Mesh,
+    pub ranges: Vec<(u32, u32)>,
+}
+
+/// Upload vertex data made by [`vertex_data`] or [`tessellated_data`] for `polygons` polygons,
+/// with each polygon's vertex range.
+pub fn upload_scene(
+    gl: &crate::gl::Gl,
+    data: &[f32],
+    polygons: usize,
+) -> Result<SceneMesh, GlError> {
+    let mut ranges = vec![(0u32, 0u32); polygons];
+    for (v, vertex) in data.chunks_exact(FLOATS as usize).enumerate() {
+        let range = &mut ranges[vertex[ID_OFFSET as usize] as usize];
+        if range.1 == 0 {
+            range.0 = v as u32;
+        }
+        range.1 += 1;
+    }
+    Ok(SceneMesh {
+        mesh: upload(gl, data)?,
+        ranges,
+    })
+}
+
 /// Upload vertex data made by [`vertex_data`] or [`tessellated_data`].
 pub fn upload(gl: &crate::gl::Gl, data: &[f32]) -> Result<Mesh, GlError> {
     let a = |location, size, offset| Attribute {
@@ -104,7 +134,7 @@ pub fn upload(gl: &crate::gl::Gl, data: &[f32]) -> Result<Mesh, GlError> {
             a(POSITION, 3, 0),
             a(NORMAL, 3, 3),
             a(LIGHTMAP_UV, 2, 6),
-            a(POLYGON_ID, 1, 8),
+            a(POLYGON_ID, 1, ID_OFFSET),
             a(REFLECTANCE, 3, 9),
             a(EMISSION, 3, 12),
         ],

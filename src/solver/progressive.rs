@@ -17,6 +17,7 @@ use super::{mesh, shooters, Shooter, ShotRecord, SolveOptions};
 use crate::gl::{GlContext, GlError, Mesh};
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
+use mesh::SceneMesh;
 use std::time::Instant;
 
 #[derive(Debug, thiserror::Error)]
@@ -61,7 +62,7 @@ pub struct GpuSolver<'a> {
     scene: &'a Scene,
     layout: &'a PatchLayout,
     mesh: Mesh,
-    visibility_mesh: Mesh,
+    visibility_mesh: SceneMesh,
     pub visibility: VisibilityPass,
     reconstruction: ReconstructionPass,
     lightmaps: Lightmaps,
@@ -111,23 +112,16 @@ impl<'a> GpuSolver<'a> {
             return Err(SolveError::Tessellation(options.tessellation));
         }
         let gl = &ctx.gl;
-        let (lo, hi) = scene.bounds();
         let mesh = mesh::upload(gl, &mesh::vertex_data(scene, layout))?;
+        let n = scene.polygons.len();
         let visibility_mesh = if options.tessellation > 0.0 {
-            mesh::upload(
-                gl,
-                &mesh::tessellated_data(scene, layout, options.tessellation * layout.patch_size),
-            )?
+            let size = options.tessellation * layout.patch_size;
+            mesh::upload_scene(gl, &mesh::tessellated_data(scene, layout, size), n)?
         } else {
-            mesh::upload(gl, &mesh::vertex_data(scene, layout))?
+            mesh::upload_scene(gl, &mesh::vertex_data(scene, layout), n)?
         };
-        let visibility = VisibilityPass::new(
-            ctx,
-            options.visibility,
-            options.hemi_res,
-            (hi - lo).length(),
-        )?;
-        let reconstruction = ReconstructionPass::new(ctx, w as i32, h as i32)?;
+        let visibility = VisibilityPass::new(ctx, options.visibility, options.hemi_res, scene)?;
+        let reconstruction = ReconstructionPass::new(ctx, scene, layout)?;
         let lightmaps = Lightmaps::new(ctx, w as i32, h as i32)?;
 
         // Initialise: every patch's unshot energy is its emission.
@@ -135,7 +129,6 @@ impl<'a> GpuSolver<'a> {
         let mut scratch = Vec::new();
         reconstruction.read_unshot(&mut scratch);
         reconstruction.copy_into(ctx, &lightmaps)?;
-        let n = scene.polygons.len();
         let counted = EnergyTotals::sum(&scratch, n, None);
         // Equal shares of the polygon's area, so that Σ patch areas = polygon area exactly.
         let patch_area: Vec<f64> = scene

@@ -4,9 +4,13 @@
 //! received energy; the results are copied into the lightmap textures with glCopyTexSubImage2D.
 //!
 //! The receivers are rasterised once, at initialisation, into atlas textures holding each patch's
-//! position, normal and reflectance (`glsl/patchdata.frag`); every pass then draws one quad over
-//! the atlas and reads them (on llvmpipe, setting up the triangles of 1,602 small polygons cost
-//! more than all of the pass's fragment work).
+//! position, normal and reflectance (`glsl/patchdata.frag`); every pass then draws one rectangle
+//! per receiver, its lightmap's, and reads them (on llvmpipe, setting up the triangles of 1,602
+//! small polygons cost more than all of the pass's fragment work). Only receivers that can get
+//! anything are drawn: some of the polygon in front of the shooter and some of the shooter in
+//! front of the polygon (the rest would add exactly zero), plus the shooter, whose unshot energy
+//! is cleared. The renderbuffers are never cleared after initialisation, so the texels not drawn
+//! keep what the last copy put into the textures: each copy still moves a whole, current atlas.
 //!
 //! Two attachments: 0 = radiosity + ΔL, 1 = unshot + ΔL (the shooter's own unshot cleared).
 //! The paper adds with GL_ADD while copying; a copy cannot add, so the shader adds the old value
@@ -17,9 +21,13 @@ use super::visibility::{face_rotations, VisibilityPass};
 use super::{FormFactorKind, Shooter, SolveOptions, VisibilityKind};
 use crate::gl::objects::Attribute;
 use crate::gl::{
-    Framebuffer, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
+    Framebuffer, GlContext, GlError, IndexStream, Mesh, Program, Renderbuffer, Texture,
+    TextureFormat,
 };
 use crate::glsl;
+use crate::patches::PatchLayout;
+use crate::scene::Scene;
+use glam::Vec3;
 use glow::HasContext;
 
 pub const NAME: &str = "reconstruction";
@@ -62,10 +70,25 @@ struct PatchData {
 
 pub struct ReconstructionPass {
     program: Program,
+    /// Each polygon's plane (unit normal n, n·x of its points), texel ID at (ID % width, ID /
+    /// width): the robust visibility test asks whether the polygon a pixel shows lies between
+    /// the shooter and the receiver.
+    planes: Texture,
+    /// World units a point must lie beyond a plane to count as behind it (float noise: 1e-5 of
+    /// the scene's size; the rooms' thinnest gap, a sheet of paper on a desk, is 1 mm in 7 m).
+    plane_slack: f32,
     emission: Program,
     patches: PatchData,
-    /// Two triangles covering the atlas.
-    quad: Mesh,
+    /// Two triangles per polygon covering its lightmap rectangle (polygon `i`: vertices 6i..6i+6).
+    rects: Mesh,
+    /// The rectangles a pass draws (reused).
+    indices: Vec<u32>,
+    stream: IndexStream,
+    /// Each polygon's vertices (`outlines[starts[i]..starts[i + 1]]`) and normal, to tell which
+    /// can receive from a shooter.
+    outlines: Vec<Vec3>,
+    starts: Vec<usize>,
+    normals: Vec<Vec3>,
     _radiosity_rb: Renderbuffer,
     _unshot_rb: Renderbuffer,
     fbo: Framebuffer,
@@ -74,8 +97,12 @@ pub struct ReconstructionPass {
 }
 
 impl ReconstructionPass {
-    pub fn new(ctx: &GlContext, width: i32, height: i32) -> Result<Self, GlError> {
+    pub fn new(ctx: &GlContext, scene: &Scene, layout: &PatchLayout) -> Result<Self, GlError> {
         let gl = &ctx.gl;
+        let (width, height) = (layout.atlas_width as i32, layout.atlas_height as i32);
+        let planes = polygon_planes(ctx, scene)?;
+        let (lo, hi) = scene.bounds();
+        let plane_slack = 1e-5 * (hi - lo).length();
         let outputs = &[(0, "NewRadiosity"), (1, "NewUnshot")];
         let program = Program::new(
             gl,
@@ -84,11 +111,16 @@ impl ReconstructionPass {
             &[(0, "Corner")],
             outputs,
         )?;
-        let quad = Mesh::new(
+        let mut corners = Vec::with_capacity(layout.lightmaps.len() * 12);
+        for lm in &layout.lightmaps {
+            let x = |t: u32| t as f32 / width as f32 * 2.0 - 1.0;
+            let y = |t: u32| t as f32 / height as f32 * 2.0 - 1.0;
+            let (x0, y0, x1, y1) = (x(lm.x), y(lm.y), x(lm.x + lm.w), y(lm.y + lm.h));
+            corners.extend_from_slice(&[x0, y0, x1, y0, x1, y1, x0, y0, x1, y1, x0, y1]);
+        }
+        let rects = Mesh::new(
             gl,
-            &[
-                -1.0, -1.0, 1.0, -1.0, 1.0, 1.0, -1.0, -1.0, 1.0, 1.0, -1.0, 1.0,
-            ],
+            &corners,
             2,
             &[Attribute {
                 location: 0,
@@ -96,6 +128,13 @@ impl ReconstructionPass {
                 offset: 0,
             }],
         )?;
+        let mut starts = vec![0];
+        let mut outlines = Vec::new();
+        for p in &scene.polygons {
+            outlines.extend_from_slice(&p.vertices);
+            starts.push(outlines.len());
+        }
+        let normals = scene.polygons.iter().map(|p| p.normal).collect();
         let make = || Texture::new(gl, width, height, TextureFormat::Rgba32F, glow::NEAREST);
         let patches = PatchData {
             program: Program::new(
@@ -141,9 +180,16 @@ impl ReconstructionPass {
         ctx.check(NAME)?;
         Ok(ReconstructionPass {
             program,
+            planes,
+            plane_slack,
             emission,
             patches,
-            quad,
+            rects,
+            indices: Vec::new(),
+            stream: IndexStream::new(gl)?,
+            outlines,
+            starts,
+            normals,
             _radiosity_rb: radiosity_rb,
             _unshot_rb: unshot_rb,
             fbo,
@@ -152,19 +198,28 @@ impl ReconstructionPass {
         })
     }
 
-    fn begin(&self, ctx: &GlContext) {
+    /// Bind the renderbuffers' FBO; `clear` zeroes them (initialisation only).
+    fn begin(&self, ctx: &GlContext, clear: bool) {
         Self::target(
             ctx,
             &self.fbo,
             &[glow::COLOR_ATTACHMENT0, glow::COLOR_ATTACHMENT1],
             self.width,
             self.height,
+            clear,
         );
     }
 
     /// Bind `fbo` for drawing flat into the atlas: its `buffers`, no depth, blending, culling
-    /// or scissor, cleared to zero (texels that are no patch stay zero: alpha 0, no polygon).
-    fn target(ctx: &GlContext, fbo: &Framebuffer, buffers: &[u32], width: i32, height: i32) {
+    /// or scissor; `clear` zeroes it (texels that are no patch stay zero: alpha 0, no polygon).
+    fn target(
+        ctx: &GlContext,
+        fbo: &Framebuffer,
+        buffers: &[u32],
+        width: i32,
+        height: i32,
+        clear: bool,
+    ) {
         let gl = &ctx.gl;
         fbo.bind();
         unsafe {
@@ -174,9 +229,28 @@ impl ReconstructionPass {
             gl.disable(glow::BLEND);
             gl.disable(glow::CULL_FACE);
             gl.disable(glow::SCISSOR_TEST);
-            gl.clear_color(0.0, 0.0, 0.0, 0.0);
-            gl.clear(glow::COLOR_BUFFER_BIT);
+            if clear {
+                gl.clear_color(0.0, 0.0, 0.0, 0.0);
+                gl.clear(glow::COLOR_BUFFER_BIT);
+            }
         }
+    }
+
+    /// Can polygon `p` receive anything from `shooter`? Some of it must lie in front of the
+    /// shooter and some of the shooter in front of it (with float slack: never wrongly no).
+    fn can_receive(&self, p: usize, shooter: &Shooter) -> bool {
+        let outline = &self.outlines[self.starts[p]..self.starts[p + 1]];
+        let slack = self.plane_slack;
+        let base = shooter.corners[0];
+        let in_front = outline
+            .iter()
+            .any(|&v| shooter.normal.dot(v - base) > -slack);
+        let n = self.normals[p];
+        let sees = shooter.corners[..shooter.corner_count.max(1)]
+            .iter()
+            .chain(std::iter::once(&shooter.position))
+            .any(|&c| n.dot(c - outline[0]) > -slack);
+        in_front && sees
     }
 
     /// Rasterise every patch's geometry into the patch textures, then write each patch's emitted
@@ -192,11 +266,12 @@ impl ReconstructionPass {
             ],
             self.width,
             self.height,
+            true,
         );
         self.patches.program.use_program();
         mesh.draw();
         ctx.check(INIT_NAME)?;
-        self.begin(ctx);
+        self.begin(ctx, true);
         self.emission.use_program();
         mesh.draw();
         ctx.check(INIT_NAME)
@@ -205,17 +280,25 @@ impl ReconstructionPass {
     /// One reconstruction: ΔL for every patch from `shooter`, added to `radiosity` and `unshot`
     /// (read as textures) into the two renderbuffers.
     pub fn run(
-        &self,
+        &mut self,
         ctx: &GlContext,
         visibility: &VisibilityPass,
         lightmaps: &Lightmaps,
         shooter: &Shooter,
         options: &SolveOptions,
     ) -> Result<(), GlError> {
-        self.begin(ctx);
+        self.indices.clear();
+        for p in 0..self.normals.len() {
+            if p == shooter.polygon || self.can_receive(p, shooter) {
+                let first = 6 * p as u32;
+                self.indices.extend(first..first + 6);
+            }
+        }
+        self.stream.upload(&self.indices);
+        self.begin(ctx, false);
         self.program.use_program();
         visibility.item_buffer.bind(0);
-        visibility.distance.bind(3);
+        self.planes.bind(3);
         lightmaps.radiosity.bind(1);
         lightmaps.unshot.bind(2);
         self.patches.position.bind(4);
@@ -257,8 +340,10 @@ impl ReconstructionPass {
             .collect();
         p.set_mat3_array("FaceRotation", &rotations);
         p.set_i32("Robust", options.robust_visibility as i32);
-        p.set_i32("HemiDistance", 3);
-        self.quad.draw();
+        p.set_i32("PolygonPlanes", 3);
+        p.set_i32("PlanesWidth", self.planes.width);
+        p.set_f32("PlaneSlack", self.plane_slack);
+        self.rects.draw_indexed(&self.stream, 0, self.indices.len());
         unsafe {
             ctx.gl.active_texture(glow::TEXTURE0);
         }
@@ -283,4 +368,24 @@ impl ReconstructionPass {
         }
         ctx.check(COPY_NAME)
     }
+}
+
+/// The polygons' planes as an RGBA32F texture (see `ReconstructionPass::planes`).
+fn polygon_planes(ctx: &GlContext, scene: &Scene) -> Result<Texture, GlError> {
+    let n = scene.polygons.len().max(1);
+    let width = n.min(ctx.info.max_texture_size.max(1) as usize);
+    let height = n.div_ceil(width);
+    let mut data = vec![0.0f32; width * height * 4];
+    for (texel, p) in data.chunks_exact_mut(4).zip(&scene.polygons) {
+        texel.copy_from_slice(&[p.normal.x, p.normal.y, p.normal.z, p.normal.dot(p.centroid)]);
+    }
+    let texture = Texture::new(
+        &ctx.gl,
+        width as i32,
+        height as i32,
+        TextureFormat::Rgba32F,
+        glow::NEAREST,
+    )?;
+    texture.upload_f32(&data);
+    Ok(texture)
 }

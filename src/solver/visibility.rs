@@ -1,6 +1,7 @@
 //! Visibility pass (paper 3.2.1): the scene drawn from the shooter, polygon IDs as colours, into
 //! an FBO whose colour attachment is a *texture* (so the reconstruction pass can sample it), with
-//! a depth renderbuffer for hidden-surface removal.
+//! a depth renderbuffer for hidden-surface removal. The IDs are all the reconstruction pass needs:
+//! its robust test looks up the shown polygon's plane by ID.
 //!
 //! Two projections: the paper's hemispherical one (`glsl/hemiproj.vert`, one render onto the
 //! unit disk) and the hemicube (`glsl/hemicube.vert`, five 90° perspective renders):
@@ -12,12 +13,13 @@
 //!   +--------+                 +-------+-------+-------+-------+-------+
 //! ```
 
-use super::mesh::ATTRIBUTES;
+use super::mesh::{SceneMesh, ATTRIBUTES};
 use super::{Shooter, VisibilityKind};
 use crate::gl::{
-    Framebuffer, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
+    Framebuffer, GlContext, GlError, IndexStream, Program, Renderbuffer, Texture, TextureFormat,
 };
 use crate::glsl;
+use crate::scene::Scene;
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
 
@@ -26,15 +28,31 @@ pub struct VisibilityPass {
     pub kind: VisibilityKind,
     /// The item buffer: RGBA8, ID + 1 in RGB (0 = nothing seen).
     pub item_buffer: Texture,
-    /// Distance from the shooter to what each pixel shows (R32F; cleared to "infinitely far").
-    pub distance: Texture,
     _depth: Renderbuffer,
     fbo: Framebuffer,
     resolution: i32,
     near_far: [f32; 2],
+    /// Each polygon's bounding sphere (centre, radius), for culling.
+    spheres: Vec<(Vec3, f32)>,
+    /// The triangles each view draws after culling, views one after another (reused).
+    indices: Vec<u32>,
+    stream: IndexStream,
 }
 
 pub const NAME: &str = "visibility";
+
+/// The pixels of hemicube face `k` (x, y, width, height within the face) that look above the
+/// shooter's horizon: all of the front face, half of each side face (see `face_rotations`:
+/// +x and -x put the shooter's normal at their left and right, +y and -y at their bottom).
+pub fn front_half(k: usize, r: i32) -> [i32; 4] {
+    let h = (r + 1) / 2;
+    match k {
+        1 => [0, 0, h, r],
+        2 => [r - h, 0, h, r],
+        3 | 4 => [0, 0, r, h],
+        _ => [0, 0, r, r],
+    }
+}
 
 /// Hemicube faces as rotations of the shooter's eye space (which looks down -z): front, +x,
 /// -x, +y, -y. The reconstruction shader uses the same matrices to find a direction's pixel.
@@ -50,14 +68,27 @@ pub fn face_rotations() -> [Mat3; 5] {
 }
 
 impl VisibilityPass {
-    /// `scene_size`: the scene's bounding-box diagonal, which sets the near and far planes.
     pub fn new(
         ctx: &GlContext,
         kind: VisibilityKind,
         resolution: u32,
-        scene_size: f32,
+        scene: &Scene,
     ) -> Result<Self, GlError> {
         let gl = &ctx.gl;
+        let (lo, hi) = scene.bounds();
+        let scene_size = (hi - lo).length();
+        let spheres = scene
+            .polygons
+            .iter()
+            .map(|p| {
+                let r = p
+                    .vertices
+                    .iter()
+                    .map(|v| v.distance(p.centroid))
+                    .fold(0.0, f32::max);
+                (p.centroid, r)
+            })
+            .collect();
         let vertex = match kind {
             VisibilityKind::Hemisphere => glsl!("hemiproj.vert"),
             VisibilityKind::Hemicube => glsl!("hemicube.vert"),
@@ -67,7 +98,7 @@ impl VisibilityPass {
             vertex,
             glsl!("itembuffer.frag"),
             ATTRIBUTES,
-            &[(0, "Color"), (1, "Distance")],
+            &[(0, "Color")],
         )?;
         let res = resolution as i32;
         let width = if kind == VisibilityKind::Hemicube {
@@ -77,11 +108,9 @@ impl VisibilityPass {
         };
         // NEAREST: an ID must never be blended with its neighbour's.
         let item_buffer = Texture::new(gl, width, res, TextureFormat::Rgba8, glow::NEAREST)?;
-        let distance = Texture::new(gl, width, res, TextureFormat::R32F, glow::NEAREST)?;
         let depth = Renderbuffer::new(gl, glow::DEPTH_COMPONENT24, width, res)?;
         let fbo = Framebuffer::new(gl)?;
         fbo.attach_texture(glow::COLOR_ATTACHMENT0, &item_buffer);
-        fbo.attach_texture(glow::COLOR_ATTACHMENT1, &distance);
         fbo.attach_renderbuffer(glow::DEPTH_ATTACHMENT, &depth);
         fbo.check_complete(NAME)?;
         unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
@@ -93,20 +122,64 @@ impl VisibilityPass {
             program,
             kind,
             item_buffer,
-            distance,
             _depth: depth,
             fbo,
             resolution: res,
             near_far,
+            spheres,
+            indices: Vec::new(),
+            stream: IndexStream::new(gl)?,
         })
     }
 
-    pub fn run(&self, ctx: &GlContext, mesh: &Mesh, shooter: &Shooter) -> Result<(), GlError> {
+    /// Draw the item buffer from `shooter`. Each view draws only the polygons whose bounding
+    /// sphere reaches into it and in front of the shooter (on llvmpipe, transforming and
+    /// clipping the whole scene five times cost more than filling the pixels), and the hemicube's
+    /// side faces fill only their upper halves, the part above the shooter's horizon that the
+    /// reconstruction pass looks up.
+    pub fn run(
+        &mut self,
+        ctx: &GlContext,
+        mesh: &SceneMesh,
+        shooter: &Shooter,
+    ) -> Result<(), GlError> {
         let gl = &ctx.gl;
+        let view = shooter.view();
+        let views = match self.kind {
+            VisibilityKind::Hemisphere => 1,
+            VisibilityKind::Hemicube => 5,
+        };
+        let rotations = face_rotations();
+        let mut ranges = [(0usize, 0usize); 5];
+        self.indices.clear();
+        for (k, range) in ranges.iter_mut().enumerate().take(views) {
+            let start = self.indices.len();
+            for (p, &(centre, radius)) in self.spheres.iter().enumerate() {
+                let c = view.transform_point3(centre);
+                // Wholly behind the shooter's plane: nothing it could hide is looked up.
+                if c.z >= radius || p == shooter.polygon {
+                    continue;
+                }
+                if self.kind == VisibilityKind::Hemicube {
+                    // Outside one of the face's four 45° side planes (unit normals (±1, 0, -1)/√2
+                    // and (0, ±1, -1)/√2 in face space).
+                    let f = rotations[k] * c;
+                    let reach = radius * std::f32::consts::SQRT_2;
+                    if -f.z - f.x.abs() < -reach || -f.z - f.y.abs() < -reach {
+                        continue;
+                    }
+                }
+                let (first, count) = mesh.ranges[p];
+                self.indices.extend(first..first + count);
+            }
+            *range = (start, self.indices.len() - start);
+        }
+        self.stream.upload(&self.indices);
+
         self.fbo.bind();
         unsafe {
             gl.viewport(0, 0, self.item_buffer.width, self.item_buffer.height);
-            gl.draw_buffers(&[glow::COLOR_ATTACHMENT0, glow::COLOR_ATTACHMENT1]);
+            gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
             gl.disable(glow::BLEND);
             gl.disable(glow::SCISSOR_TEST);
             // Back faces occlude too: a wall seen from behind is still a wall.
@@ -115,30 +188,37 @@ impl VisibilityPass {
             gl.depth_func(glow::LESS);
             gl.depth_mask(true);
             gl.clear_buffer_f32_slice(glow::COLOR, 0, &[0.0; 4]);
-            gl.clear_buffer_f32_slice(glow::COLOR, 1, &[f32::MAX, 0.0, 0.0, 0.0]);
             gl.clear_depth_f64(1.0);
             gl.clear(glow::DEPTH_BUFFER_BIT);
         }
         self.program.use_program();
         self.program.set_f32("ShooterId", shooter.polygon as f32);
-        let view = shooter.view();
         self.program.set_mat4("ShooterView", &view.to_cols_array());
         match self.kind {
             VisibilityKind::Hemisphere => {
                 self.program.set_vec2("NearFar", self.near_far);
-                mesh.draw();
+                mesh.mesh
+                    .draw_indexed(&self.stream, ranges[0].0, ranges[0].1);
             }
             VisibilityKind::Hemicube => {
                 let [n, f] = self.near_far;
                 let projection = Mat4::perspective_rh_gl(std::f32::consts::FRAC_PI_2, 1.0, n, f);
-                for (k, rotation) in face_rotations().iter().enumerate() {
-                    let r = self.resolution;
-                    unsafe { gl.viewport(k as i32 * r, 0, r, r) };
+                let r = self.resolution;
+                unsafe { gl.enable(glow::SCISSOR_TEST) };
+                for (k, rotation) in rotations.iter().enumerate() {
+                    let x = k as i32 * r;
+                    unsafe {
+                        gl.viewport(x, 0, r, r);
+                        let [sx, sy, sw, sh] = front_half(k, r);
+                        gl.scissor(x + sx, sy, sw, sh);
+                    }
                     let m = projection * Mat4::from_mat3(*rotation) * view;
                     self.program
                         .set_mat4("FaceViewProjection", &m.to_cols_array());
-                    mesh.draw();
+                    mesh.mesh
+                        .draw_indexed(&self.stream, ranges[k].0, ranges[k].1);
                 }
+                unsafe { gl.disable(glow::SCISSOR_TEST) };
             }
         }
         unsafe {
@@ -146,6 +226,12 @@ impl VisibilityPass {
             gl.bind_framebuffer(glow::FRAMEBUFFER, None);
         }
         ctx.check(NAME)
+    }
+
+    /// Triangles the last `run` drew, all views together (the scene has `mesh.vertex_count / 3`
+    /// per view before culling).
+    pub fn drawn_triangles(&self) -> usize {
+        self.indices.len() / 3
     }
 
     /// The item buffer as polygon IDs (`None` where no polygon is seen), rows bottom to top.
