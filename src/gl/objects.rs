@@ -354,6 +354,18 @@ impl Mesh {
         self.draw_range(0, self.vertex_count);
     }
 
+    /// Replace the vertices (same layout) with new storage ("orphaning": draws still queued
+    /// with the old ones never make this wait for them).
+    pub fn replace(&mut self, data: &[f32], floats_per_vertex: i32) {
+        unsafe {
+            self.gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.vbo));
+            self.gl
+                .buffer_data_u8_slice(glow::ARRAY_BUFFER, as_bytes(data), glow::STREAM_DRAW);
+            self.gl.bind_buffer(glow::ARRAY_BUFFER, None);
+        }
+        self.vertex_count = data.len() as i32 / floats_per_vertex;
+    }
+
     pub fn draw_range(&self, first: i32, count: i32) {
         unsafe {
             self.gl.bind_vertex_array(Some(self.vao));

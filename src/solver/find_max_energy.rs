@@ -44,6 +44,35 @@ impl EnergyTotals {
         totals
     }
 
+    /// Re-total only the polygons in `changed` (a shot changes its receivers' and shooter's
+    /// texels, no others), each read from its lightmap rectangle `texels[p]` = [x0, y0, x1, y1)
+    /// of an atlas `width` texels wide: the same texels in the same order as `sum`, so the same
+    /// totals, without scanning the whole atlas every shot.
+    pub fn update(
+        &mut self,
+        rgba: &[f32],
+        width: usize,
+        texels: &[[u32; 4]],
+        changed: &[usize],
+        patch_area: &[f64],
+    ) {
+        for &p in changed {
+            let [x0, y0, x1, y1] = texels[p].map(|v| v as usize);
+            let id = (p + 1) as f32;
+            let mut e = [0.0f64; 3];
+            for y in y0..y1 {
+                for texel in rgba[(y * width + x0) * 4..(y * width + x1) * 4].chunks_exact(4) {
+                    if texel[3] == id {
+                        for c in 0..3 {
+                            e[c] += texel[c] as f64;
+                        }
+                    }
+                }
+            }
+            self.energy[p] = e.map(|v| v * patch_area[p]);
+        }
+    }
+
     /// Power of polygon p: π·Σ L·A, RGB mean (the paper's `Intensity`).
     pub fn power(&self, p: usize) -> f64 {
         let e = self.energy[p];
@@ -92,5 +121,25 @@ mod tests {
         assert_eq!(t.find_max_energy(0.0), Some(1));
         assert!((t.total_power() - std::f64::consts::PI * 7.0).abs() < 1e-9);
         assert_eq!(t.find_max_energy(100.0), None);
+    }
+
+    #[test]
+    fn updating_the_changed_polygons_gives_the_full_sum() {
+        // A 4x2 atlas: polygon 0 at [0,0,2,2), polygon 1 at [2,0,4,1) (its second row empty).
+        let mut rgba = vec![0.0f32; 4 * 2 * 4];
+        let mut put = |x: usize, y: usize, v: f32, id: f32| {
+            rgba[(y * 4 + x) * 4..(y * 4 + x) * 4 + 4].copy_from_slice(&[v, v, v, id])
+        };
+        for (x, y) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            put(x, y, 1.0, 1.0);
+        }
+        put(2, 0, 2.0, 2.0);
+        put(3, 0, 3.0, 2.0);
+        let areas = [0.5, 2.0];
+        let mut t = EnergyTotals::sum(&rgba, 2, Some(&areas));
+        rgba[4 * 3] = 7.0; // polygon 1's second texel changes
+        t.update(&rgba, 4, &[[0, 0, 2, 2], [2, 0, 4, 1]], &[1], &areas);
+        let full = EnergyTotals::sum(&rgba, 2, Some(&areas));
+        assert_eq!(t.energy, full.energy);
     }
 }

@@ -70,6 +70,9 @@ pub struct GpuSolver<'a> {
     patch_area: Vec<f64>,
     emitted_power: f64,
     totals: EnergyTotals,
+    /// Lightmap rectangles [x0, y0, x1, y1) per polygon, and the polygons a shot changed.
+    texels: Vec<[u32; 4]>,
+    changed: Vec<usize>,
     scratch: Vec<f32>,
     shots: u32,
     /// Visibility + reconstruction pass pairs run so far (one per shooter cell).
@@ -157,6 +160,12 @@ impl<'a> GpuSolver<'a> {
             patch_area,
             emitted_power,
             totals,
+            texels: layout
+                .lightmaps
+                .iter()
+                .map(|lm| [lm.x, lm.y, lm.x + lm.w, lm.y + lm.h])
+                .collect(),
+            changed: Vec::new(),
             scratch,
             shots: 0,
             passes: 0,
@@ -223,6 +232,7 @@ impl<'a> GpuSolver<'a> {
         let polygon = shooters.first().map(|s| s.polygon).unwrap_or(0);
         let before = self.totals.total_power();
         let shot_power: f64 = shooters.iter().map(|s| s.power()).sum();
+        self.changed.clear();
         for shooter in shooters {
             let t = Instant::now();
             self.visibility.run(ctx, &self.visibility_mesh, shooter)?;
@@ -235,6 +245,7 @@ impl<'a> GpuSolver<'a> {
                 &self.options,
             )?;
             let t2 = Instant::now();
+            self.changed.extend_from_slice(&self.reconstruction.touched);
             self.reconstruction.copy_into(ctx, &self.lightmaps)?;
             self.times.visibility += (t1 - t).as_secs_f64();
             self.times.reconstruction += (t2 - t1).as_secs_f64();
@@ -244,10 +255,14 @@ impl<'a> GpuSolver<'a> {
         let t = Instant::now();
         self.reconstruction.read_unshot(&mut self.scratch);
         let t1 = Instant::now();
-        self.totals = EnergyTotals::sum(
+        self.changed.sort_unstable();
+        self.changed.dedup();
+        self.totals.update(
             &self.scratch,
-            self.scene.polygons.len(),
-            Some(&self.patch_area),
+            self.layout.atlas_width as usize,
+            &self.texels,
+            &self.changed,
+            &self.patch_area,
         );
         self.times.readback += (t1 - t).as_secs_f64();
         self.times.find_max_energy += t1.elapsed().as_secs_f64();

@@ -21,8 +21,7 @@ use super::visibility::{face_rotations, VisibilityPass};
 use super::{FormFactorKind, Shooter, SolveOptions, VisibilityKind};
 use crate::gl::objects::Attribute;
 use crate::gl::{
-    Framebuffer, GlContext, GlError, IndexStream, Mesh, Program, Renderbuffer, Texture,
-    TextureFormat,
+    Framebuffer, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
 };
 use crate::glsl;
 use crate::patches::PatchLayout;
@@ -79,11 +78,16 @@ pub struct ReconstructionPass {
     plane_slack: f32,
     emission: Program,
     patches: PatchData,
-    /// Two triangles per polygon covering its lightmap rectangle (polygon `i`: vertices 6i..6i+6).
+    /// The rectangles a pass draws, two triangles each (rebuilt every pass).
     rects: Mesh,
-    /// The rectangles a pass draws (reused).
-    indices: Vec<u32>,
-    stream: IndexStream,
+    corners: Vec<f32>,
+    /// Polygons in atlas order (shelf by shelf, left to right), without empty lightmaps.
+    atlas_order: Vec<usize>,
+    /// Lightmap rectangles [x0, y0, x1, y1), per polygon.
+    texels: Vec<[u32; 4]>,
+    /// The polygons the last pass drew (receivers and the shooter): the only ones whose unshot
+    /// energy it can have changed.
+    pub touched: Vec<usize>,
     /// Each polygon's vertices (`outlines[starts[i]..starts[i + 1]]`) and normal, to tell which
     /// can receive from a shooter.
     outlines: Vec<Vec3>,
@@ -111,16 +115,18 @@ impl ReconstructionPass {
             &[(0, "Corner")],
             outputs,
         )?;
-        let mut corners = Vec::with_capacity(layout.lightmaps.len() * 12);
-        for lm in &layout.lightmaps {
-            let x = |t: u32| t as f32 / width as f32 * 2.0 - 1.0;
-            let y = |t: u32| t as f32 / height as f32 * 2.0 - 1.0;
-            let (x0, y0, x1, y1) = (x(lm.x), y(lm.y), x(lm.x + lm.w), y(lm.y + lm.h));
-            corners.extend_from_slice(&[x0, y0, x1, y0, x1, y1, x0, y0, x1, y1, x0, y1]);
-        }
+        let texels: Vec<[u32; 4]> = layout
+            .lightmaps
+            .iter()
+            .map(|lm| [lm.x, lm.y, lm.x + lm.w, lm.y + lm.h])
+            .collect();
+        let mut atlas_order: Vec<usize> = (0..texels.len())
+            .filter(|&p| layout.patches_per_polygon[p] > 0)
+            .collect();
+        atlas_order.sort_by_key(|&p| (texels[p][1], texels[p][0]));
         let rects = Mesh::new(
             gl,
-            &corners,
+            &[],
             2,
             &[Attribute {
                 location: 0,
@@ -185,8 +191,10 @@ impl ReconstructionPass {
             emission,
             patches,
             rects,
-            indices: Vec::new(),
-            stream: IndexStream::new(gl)?,
+            corners: Vec::new(),
+            atlas_order,
+            texels,
+            touched: Vec::new(),
             outlines,
             starts,
             normals,
@@ -277,6 +285,47 @@ impl ReconstructionPass {
         ctx.check(INIT_NAME)
     }
 
+    /// The rectangles to draw for `shooter`: the lightmaps of the polygons that can receive (and
+    /// the shooter's), neighbours on a shelf of the atlas merged into one rectangle (what lies
+    /// between them is gutter, which the shader discards): on llvmpipe each small triangle costs
+    /// about as much to set up as dozens of fragments.
+    fn select_receivers(&mut self, shooter: &Shooter) {
+        self.touched.clear();
+        self.corners.clear();
+        let (w, h) = (self.width as f32, self.height as f32);
+        let mut run: Option<[u32; 4]> = None;
+        let flush = |run: &mut Option<[u32; 4]>, corners: &mut Vec<f32>| {
+            if let Some([x0, y0, x1, y1]) = run.take() {
+                let x = |t: u32| t as f32 / w * 2.0 - 1.0;
+                let y = |t: u32| t as f32 / h * 2.0 - 1.0;
+                let (x0, y0, x1, y1) = (x(x0), y(y0), x(x1), y(y1));
+                corners.extend_from_slice(&[x0, y0, x1, y0, x1, y1, x0, y0, x1, y1, x0, y1]);
+            }
+        };
+        for k in 0..self.atlas_order.len() {
+            let p = self.atlas_order[k];
+            if p != shooter.polygon && !self.can_receive(p, shooter) {
+                flush(&mut run, &mut self.corners);
+                continue;
+            }
+            self.touched.push(p);
+            let t = self.texels[p];
+            match &mut run {
+                // Same shelf (shelves stack, so the taller rectangle never reaches the next).
+                Some(r) if r[1] == t[1] => {
+                    r[2] = t[2];
+                    r[3] = r[3].max(t[3]);
+                }
+                _ => {
+                    flush(&mut run, &mut self.corners);
+                    run = Some(t);
+                }
+            }
+        }
+        flush(&mut run, &mut self.corners);
+        self.rects.replace(&self.corners, 2);
+    }
+
     /// One reconstruction: ΔL for every patch from `shooter`, added to `radiosity` and `unshot`
     /// (read as textures) into the two renderbuffers.
     pub fn run(
@@ -287,14 +336,7 @@ impl ReconstructionPass {
         shooter: &Shooter,
         options: &SolveOptions,
     ) -> Result<(), GlError> {
-        self.indices.clear();
-        for p in 0..self.normals.len() {
-            if p == shooter.polygon || self.can_receive(p, shooter) {
-                let first = 6 * p as u32;
-                self.indices.extend(first..first + 6);
-            }
-        }
-        self.stream.upload(&self.indices);
+        self.select_receivers(shooter);
         self.begin(ctx, false);
         self.program.use_program();
         visibility.item_buffer.bind(0);
@@ -343,7 +385,7 @@ impl ReconstructionPass {
         p.set_i32("PolygonPlanes", 3);
         p.set_i32("PlanesWidth", self.planes.width);
         p.set_f32("PlaneSlack", self.plane_slack);
-        self.rects.draw_indexed(&self.stream, 0, self.indices.len());
+        self.rects.draw();
         unsafe {
             ctx.gl.active_texture(glow::TEXTURE0);
         }

@@ -42,6 +42,10 @@ pub struct CpuSolver<'a> {
     unshot: Vec<f32>,
     patch_area: Vec<f64>,
     totals: EnergyTotals,
+    /// Lightmap rectangles [x0, y0, x1, y1) per polygon; which polygons a shot changed.
+    texels: Vec<[u32; 4]>,
+    marked: Vec<bool>,
+    changed: Vec<usize>,
     emitted_power: f64,
     shots: u32,
     pub passes: u32,
@@ -119,6 +123,13 @@ impl<'a> CpuSolver<'a> {
             unshot,
             patch_area,
             totals,
+            texels: layout
+                .lightmaps
+                .iter()
+                .map(|lm| [lm.x, lm.y, lm.x + lm.w, lm.y + lm.h])
+                .collect(),
+            marked: vec![false; scene.polygons.len()],
+            changed: Vec::new(),
             emitted_power,
             shots: 0,
             passes: 0,
@@ -188,6 +199,9 @@ impl<'a> CpuSolver<'a> {
             let width = self.layout.atlas_width as usize;
             for (r, d) in self.receivers.iter().zip(&self.deltas) {
                 let at = r.texel * 4;
+                if r.polygon as usize == shooter.polygon || *d != Vec3::ZERO {
+                    self.marked[r.polygon as usize] = true;
+                }
                 if r.polygon as usize == shooter.polygon {
                     let (x, y) = (r.texel % width, r.texel / width);
                     if (x0..x1).contains(&x) && (y0..y1).contains(&y) {
@@ -202,10 +216,19 @@ impl<'a> CpuSolver<'a> {
             }
             self.passes += 1;
         }
-        self.totals = EnergyTotals::sum(
+        // Re-total only the polygons the shot changed (as the GPU solver does).
+        self.changed.clear();
+        for (p, m) in self.marked.iter_mut().enumerate() {
+            if std::mem::take(m) {
+                self.changed.push(p);
+            }
+        }
+        self.totals.update(
             &self.unshot,
-            self.scene.polygons.len(),
-            Some(&self.patch_area),
+            self.layout.atlas_width as usize,
+            &self.texels,
+            &self.changed,
+            &self.patch_area,
         );
         self.shots += 1;
         let record = ShotRecord {
