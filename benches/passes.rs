@@ -1,7 +1,8 @@
 //! Criterion benches of the hot pieces of one shot, on the simple Table 1 room with the settings
-//! of `radiosity bench table1` (whole polygons shoot, polygon form factor, 256² hemicube): one
-//! visibility pass, one reconstruction pass, the accumulation copies, one Find_Max_Energy (sum
-//! of the read-back unshot atlas + the choice), one whole GPU shot and one CPU shot.
+//! of `radiosity bench table1` (whole polygons shoot, polygon form factor, 128² hemicube): one
+//! visibility pass, one reconstruction pass, the accumulation copies, one Find_Max_Energy (every
+//! polygon re-totalled from the read-back unshot atlas + the choice), one whole GPU shot and one
+//! CPU shot.
 //!
 //! GL calls return before llvmpipe has drawn anything, so each GL bench ends with `glFinish`:
 //! what is measured is the pass's work, not its submission. `cargo bench --bench passes`.
@@ -75,9 +76,19 @@ fn passes(c: &mut Criterion) {
     let areas: Vec<f64> = (0..scene.polygons.len())
         .map(|p| solver.patch_area(p))
         .collect();
+    // Worst case of a shot: every polygon re-totalled from its lightmap rectangle.
+    let texels: Vec<[u32; 4]> = layout
+        .lightmaps
+        .iter()
+        .map(|lm| [lm.x, lm.y, lm.x + lm.w, lm.y + lm.h])
+        .collect();
+    let all: Vec<usize> = (0..scene.polygons.len()).collect();
+    let mut totals = EnergyTotals::sum(&unshot, scene.polygons.len(), Some(&areas));
     group.bench_function("Find_Max_Energy", |b| {
         b.iter(|| {
-            EnergyTotals::sum(&unshot, scene.polygons.len(), Some(&areas)).find_max_energy(0.0)
+            let width = layout.atlas_width as usize;
+            totals.update(&unshot, width, &texels, &all, &areas);
+            totals.find_max_energy(0.0)
         })
     });
     group.bench_function("GPU shot", |b| {

@@ -1,7 +1,7 @@
 #version 130
-// Reconstruction pass, vertex stage: one quad over the whole atlas (every receiver's lightmap at
-// once); the fragment stage reads each patch's geometry from the atlas textures patchdata.frag
-// wrote.
+// Reconstruction pass, vertex stage: rectangles of the atlas (the lightmaps of the receivers,
+// neighbours merged), given in clip space; the fragment stage reads each patch's geometry from the
+// atlas textures patchdata.frag wrote.
 
 in vec2 Corner;
 

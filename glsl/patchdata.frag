@@ -1,7 +1,7 @@
 #version 130
 // Patch geometry, rasterised once before the first shot (beside the initialisation): for every
 // patch (atlas texel) its world position and polygon ID, its normal and its reflectance. Each
-// reconstruction pass then draws one atlas-sized quad and reads these instead of rasterising
+// reconstruction pass then draws rectangles of the atlas and reads these instead of rasterising
 // every receiver polygon again: the same fragments at the same texel centres, with the same
 // interpolated positions, but without thousands of small triangles to set up per pass.
 

@@ -83,11 +83,13 @@ fn a_pane_in_front_of_a_wall_casts_its_shadow() {
         100.0 * reflected,
         100.0 * close
     );
+    // Measured on llvmpipe at the bench's 128² hemicube: -0.73 %, 97.6 % (at 256²: +0.50 %,
+    // 98.2 %); the depth-slack test gave +30 %.
     assert!(
-        reflected.abs() < 0.01,
+        reflected.abs() < 0.02,
         "reflected power differs by {reflected}"
     );
-    assert!(close > 0.97, "{close} of the patches within 1 %");
+    assert!(close > 0.95, "{close} of the patches within 1 %");
 }
 
 #[test]

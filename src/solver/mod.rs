@@ -58,11 +58,10 @@ pub struct SolveOptions {
     pub emitter_cell: u32,
     pub form_factor: FormFactorKind,
     pub visibility: VisibilityKind,
-    /// Robust visibility: a receiver is visible when its pixel holds its ID, or when what its
-    /// pixel shows (a distance buffer beside the IDs) is no nearer than the receiver's own
-    /// surface could be within that pixel (a slope-scaled depth slack). The paper tests the
-    /// nearest pixel's ID only, which misses receivers smaller than a pixel and darkens joints
-    /// where polygons meet.
+    /// Robust visibility: a receiver is visible when its pixel holds its ID, or when the
+    /// polygon its pixel shows does not lie between it and the shooter (the two are on the same
+    /// side of that polygon's plane). The paper tests the nearest pixel's ID only, which misses
+    /// receivers smaller than a pixel and darkens joints where polygons meet.
     pub robust_visibility: bool,
 }
 
