@@ -140,8 +140,7 @@ float PolygonFormFactor()
     return min(abs(sum) / (2.0 * pi), 1.0);
 }
 
-// Code 2: form factor and received energy. The visibility lookup (code 1) comes last, only
-// where the form factor is not zero: most receivers of a shot face away or lie behind it.
+// Code 2: form factor and received energy (for a visible receiver).
 vec3 FormFactorEnergy()
 {
     float F;
@@ -155,11 +154,14 @@ vec3 FormFactorEnergy()
         float cosj = -dot(ShootNormal, r);
         F = max(cosi * cosj, 0.0) / (pi * distance);
     }
-    if (F <= 0.0 || !Visible())
-        return vec3(0.0);
-    return ShootEnergy * RecvColor * F;
+    return ShootEnergy * RecvColor * max(F, 0.0);
 }
 
+// Every texel that would keep its value is discarded: the renderbuffers are never cleared after
+// initialisation, so they hold what the last copy put into the textures. Discarding early (not a
+// patch; hidden from the shooter; receiving nothing) lets llvmpipe skip the rest of the shader
+// for a block of fragments that are all discarded: the form factor is computed only for
+// receivers the shooter sees.
 void main()
 {
     ivec2 texel = ivec2(gl_FragCoord.xy);
@@ -168,17 +170,24 @@ void main()
         discard;  // not a patch: the attachments keep their cleared zero
     RecvPos = position.xyz;
     RecvId = position.w - 1.0;
+    if (RecvId == ShooterId) {
+        // A planar shooter sends nothing to itself. The texels it shot from have shot their
+        // unshot energy: clear it (paper: "清零").
+        bool shot = all(greaterThanEqual(gl_FragCoord.xy, ShooterTexels.xy))
+            && all(lessThan(gl_FragCoord.xy, ShooterTexels.zw));
+        if (!shot)
+            discard;
+        NewRadiosity = texelFetch(Radiosity, texel, 0);
+        NewUnshot = vec4(0.0, 0.0, 0.0, RecvId + 1.0);
+        return;
+    }
+    if (!Visible())
+        discard;
     RecvNormal = texelFetch(PatchNormal, texel, 0).xyz;
     RecvColor = texelFetch(PatchReflectance, texel, 0).rgb;
-    vec4 radiosity = texelFetch(Radiosity, texel, 0);
-    vec4 unshot = texelFetch(Unshot, texel, 0);
-    // A planar shooter sends nothing to itself.
-    bool shooter = RecvId == ShooterId;
-    vec3 delta = shooter ? vec3(0.0) : FormFactorEnergy();
-    // The shooter has shot its unshot energy: clear it (paper: "清零").
-    bool shot = shooter && all(greaterThanEqual(gl_FragCoord.xy, ShooterTexels.xy))
-        && all(lessThan(gl_FragCoord.xy, ShooterTexels.zw));
-    vec3 remaining = shot ? vec3(0.0) : unshot.rgb;
-    NewRadiosity = vec4(radiosity.rgb + delta, RecvId + 1.0);
-    NewUnshot = vec4(remaining + delta, RecvId + 1.0);
+    vec3 delta = FormFactorEnergy();
+    if (all(equal(delta, vec3(0.0))))
+        discard;
+    NewRadiosity = vec4(texelFetch(Radiosity, texel, 0).rgb + delta, RecvId + 1.0);
+    NewUnshot = vec4(texelFetch(Unshot, texel, 0).rgb + delta, RecvId + 1.0);
 }
