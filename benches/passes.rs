@@ -77,11 +77,7 @@ fn passes(c: &mut Criterion) {
         .map(|p| solver.patch_area(p))
         .collect();
     // Worst case of a shot: every polygon re-totalled from its lightmap rectangle.
-    let texels: Vec<[u32; 4]> = layout
-        .lightmaps
-        .iter()
-        .map(|lm| [lm.x, lm.y, lm.x + lm.w, lm.y + lm.h])
-        .collect();
+    let texels = layout.texel_rects();
     let all: Vec<usize> = (0..scene.polygons.len()).collect();
     let mut totals = EnergyTotals::sum(&unshot, scene.polygons.len(), Some(&areas));
     group.bench_function("Find_Max_Energy", |b| {

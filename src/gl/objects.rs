@@ -10,8 +10,6 @@ pub enum TextureFormat {
     Rgba32F,
     /// The item buffer: polygon IDs as 8-bit colours, exactly as in the paper.
     Rgba8,
-    /// One float per texel (the visibility pass's distances).
-    R32F,
 }
 
 impl TextureFormat {
@@ -19,12 +17,11 @@ impl TextureFormat {
         match self {
             TextureFormat::Rgba32F => glow::RGBA32F,
             TextureFormat::Rgba8 => glow::RGBA8,
-            TextureFormat::R32F => glow::R32F,
         }
     }
     fn pixel_type(self) -> u32 {
         match self {
-            TextureFormat::Rgba32F | TextureFormat::R32F => glow::FLOAT,
+            TextureFormat::Rgba32F => glow::FLOAT,
             TextureFormat::Rgba8 => glow::UNSIGNED_BYTE,
         }
     }

@@ -36,6 +36,11 @@ pub struct Lightmap {
 }
 
 impl Lightmap {
+    /// Its texel rectangle in the atlas, [x0, y0, x1, y1).
+    pub fn texels(&self) -> [u32; 4] {
+        [self.x, self.y, self.x + self.w, self.y + self.h]
+    }
+
     /// World position of a point given in the lightmap's own texel coordinates.
     pub fn world(&self, s: f32, t: f32) -> Vec3 {
         self.origin + self.axis_u * (s / self.w as f32) + self.axis_v * (t / self.h as f32)
@@ -194,6 +199,11 @@ impl PatchLayout {
             }
         }
         Ok(layout)
+    }
+
+    /// Every lightmap's texel rectangle [x0, y0, x1, y1), in polygon order.
+    pub fn texel_rects(&self) -> Vec<[u32; 4]> {
+        self.lightmaps.iter().map(Lightmap::texels).collect()
     }
 
     pub fn patch_count(&self) -> u64 {

@@ -70,8 +70,7 @@ pub struct GpuSolver<'a> {
     patch_area: Vec<f64>,
     emitted_power: f64,
     totals: EnergyTotals,
-    /// Lightmap rectangles [x0, y0, x1, y1) per polygon, and the polygons a shot changed.
-    texels: Vec<[u32; 4]>,
+    /// The polygons a shot changed (the reconstruction passes' receivers and the shooter).
     changed: Vec<usize>,
     scratch: Vec<f32>,
     shots: u32,
@@ -160,11 +159,6 @@ impl<'a> GpuSolver<'a> {
             patch_area,
             emitted_power,
             totals,
-            texels: layout
-                .lightmaps
-                .iter()
-                .map(|lm| [lm.x, lm.y, lm.x + lm.w, lm.y + lm.h])
-                .collect(),
             changed: Vec::new(),
             scratch,
             shots: 0,
@@ -260,7 +254,7 @@ impl<'a> GpuSolver<'a> {
         self.totals.update(
             &self.scratch,
             self.layout.atlas_width as usize,
-            &self.texels,
+            self.reconstruction.texels(),
             &self.changed,
             &self.patch_area,
         );

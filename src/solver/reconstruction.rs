@@ -115,11 +115,7 @@ impl ReconstructionPass {
             &[(0, "Corner")],
             outputs,
         )?;
-        let texels: Vec<[u32; 4]> = layout
-            .lightmaps
-            .iter()
-            .map(|lm| [lm.x, lm.y, lm.x + lm.w, lm.y + lm.h])
-            .collect();
+        let texels = layout.texel_rects();
         let mut atlas_order: Vec<usize> = (0..texels.len())
             .filter(|&p| layout.patches_per_polygon[p] > 0)
             .collect();
@@ -390,6 +386,11 @@ impl ReconstructionPass {
             ctx.gl.active_texture(glow::TEXTURE0);
         }
         ctx.check(NAME)
+    }
+
+    /// Each polygon's lightmap rectangle [x0, y0, x1, y1) in the atlas.
+    pub fn texels(&self) -> &[[u32; 4]] {
+        &self.texels
     }
 
     /// Read the new unshot atlas (attachment 1) for Find_Max_Energy.

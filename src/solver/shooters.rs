@@ -57,7 +57,7 @@ pub fn shooters_of(
         let (corners, corner_count, area) = world_outline(lm, corners);
         return vec![Shooter {
             polygon: p,
-            texels: [lm.x, lm.y, lm.x + lm.w, lm.y + lm.h],
+            texels: lm.texels(),
             position: polygon.centroid,
             normal: polygon.normal,
             energy: totals.energy_rgb(p),

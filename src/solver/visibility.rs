@@ -34,6 +34,8 @@ pub struct VisibilityPass {
     near_far: [f32; 2],
     /// Each polygon's bounding sphere (centre, radius), for culling.
     spheres: Vec<(Vec3, f32)>,
+    /// The polygons in front of the shooter: (polygon, sphere centre in eye space, radius) (reused).
+    in_front: Vec<(usize, Vec3, f32)>,
     /// The triangles each view draws after culling, views one after another (reused).
     indices: Vec<u32>,
     stream: IndexStream,
@@ -127,6 +129,7 @@ impl VisibilityPass {
             resolution: res,
             near_far,
             spheres,
+            in_front: Vec::new(),
             indices: Vec::new(),
             stream: IndexStream::new(gl)?,
         })
@@ -150,16 +153,20 @@ impl VisibilityPass {
             VisibilityKind::Hemicube => 5,
         };
         let rotations = face_rotations();
+        // Wholly behind the shooter's plane: nothing it could hide is looked up. The rest, with
+        // their spheres' centres in the shooter's eye space, once for all the views.
+        self.in_front.clear();
+        for (p, &(centre, radius)) in self.spheres.iter().enumerate() {
+            let c = view.transform_point3(centre);
+            if c.z < radius && p != shooter.polygon {
+                self.in_front.push((p, c, radius));
+            }
+        }
         let mut ranges = [(0usize, 0usize); 5];
         self.indices.clear();
         for (k, range) in ranges.iter_mut().enumerate().take(views) {
             let start = self.indices.len();
-            for (p, &(centre, radius)) in self.spheres.iter().enumerate() {
-                let c = view.transform_point3(centre);
-                // Wholly behind the shooter's plane: nothing it could hide is looked up.
-                if c.z >= radius || p == shooter.polygon {
-                    continue;
-                }
+            for &(p, c, radius) in &self.in_front {
                 if self.kind == VisibilityKind::Hemicube {
                     // Outside one of the face's four 45° side planes (unit normals (±1, 0, -1)/√2
                     // and (0, ±1, -1)/√2 in face space).
@@ -226,12 +233,6 @@ impl VisibilityPass {
             gl.bind_framebuffer(glow::FRAMEBUFFER, None);
         }
         ctx.check(NAME)
-    }
-
-    /// Triangles the last `run` drew, all views together (the scene has `mesh.vertex_count / 3`
-    /// per view before culling).
-    pub fn drawn_triangles(&self) -> usize {
-        self.indices.len() / 3
     }
 
     /// The item buffer as polygon IDs (`None` where no polygon is seen), rows bottom to top.

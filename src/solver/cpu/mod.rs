@@ -123,11 +123,7 @@ impl<'a> CpuSolver<'a> {
             unshot,
             patch_area,
             totals,
-            texels: layout
-                .lightmaps
-                .iter()
-                .map(|lm| [lm.x, lm.y, lm.x + lm.w, lm.y + lm.h])
-                .collect(),
+            texels: layout.texel_rects(),
             marked: vec![false; scene.polygons.len()],
             changed: Vec::new(),
             emitted_power,
