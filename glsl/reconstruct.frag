@@ -31,7 +31,6 @@ uniform int ShootCornerCount;
 uniform float ShootArea;           // area of that outline
 
 uniform int HemiCube;              // 0: hemispherical projection (paper), 1: hemicube
-uniform mat3 FaceRotation[5];      // hemicube faces: shooter eye space -> face eye space
 uniform int Robust;                // 0: nearest pixel's ID (paper); 1: ID, or the shown plane
 uniform sampler2D PolygonPlanes;   // per polygon ID (row-major, width PlanesWidth): n, n.x
 uniform int PlanesWidth;
@@ -42,33 +41,33 @@ out vec4 NewUnshot;
 
 const float pi = 3.1415926535897932;
 
-vec4 encode_id(float id)
+// The item-buffer texel the direction d (shooter eye space, d.z < 0) lands in.
+ivec2 item_texel(vec3 d)
 {
-    int n = int(id + 0.5) + 1;
-    return vec4(float(n & 255), float((n >> 8) & 255), float((n >> 16) & 255), 255.0) / 255.0;
-}
-
-// Where the direction d (shooter eye space) lands in the item buffer, in [0,1]^2.
-vec2 item_coordinates(vec3 d)
-{
+    ivec2 size = textureSize(HemiItemBuffer, 0);
     if (HemiCube == 0) {
         // The paper: project onto the hemisphere, flatten onto its base disk.
-        return normalize(d).xy * 0.5 + 0.5;
+        vec2 uv = normalize(d).xy * 0.5 + 0.5;
+        return clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);
     }
-    // Hemicube: the face of the largest component; faces are stacked left to right.
-    int face;
+    // Hemicube: the face of the largest component; faces are stacked left to right. Each face's
+    // (x, y, depth) is d's components permuted and signed as `face_rotations` (visibility.rs)
+    // rotates them: front (d.x, d.y, -d.z), +x (d.z, d.y, d.x), -x (-d.z, d.y, -d.x),
+    // +y (d.x, d.z, d.y), -y (-d.x, d.z, -d.y). Selects, not a dynamically indexed matrix array:
+    // llvmpipe gathers such an array lane by lane.
     vec3 a = abs(d);
-    if (-d.z >= a.x && -d.z >= a.y)
-        face = 0;
-    else if (a.x >= a.y)
-        face = d.x > 0.0 ? 1 : 2;
-    else
-        face = d.y > 0.0 ? 3 : 4;
-    vec3 f = FaceRotation[face] * d;
+    bool front = -d.z >= a.x && -d.z >= a.y;
+    bool side_x = !front && a.x >= a.y;
+    bool side_y = !front && !side_x;
+    float face = front ? 0.0 : side_x ? (d.x > 0.0 ? 1.0 : 2.0) : (d.y > 0.0 ? 3.0 : 4.0);
+    float sx = side_x ? sign(d.x) : 1.0;
+    float sy = side_y ? sign(d.y) : 1.0;
+    vec3 f = front ? vec3(d.x, d.y, -d.z)
+                   : side_x ? vec3(sx * d.z, d.y, sx * d.x) : vec3(sy * d.x, d.z, sy * d.y);
+    int r = size.y;
     // Inside this face's own pixels: at u = 1 the nearest pixel would be the next face's first.
-    float half_pixel = 0.5 / float(textureSize(HemiItemBuffer, 0).y);
-    vec2 uv = clamp((f.xy / -f.z) * 0.5 + 0.5, half_pixel, 1.0 - half_pixel);
-    return vec2((float(face) + uv.x) / 5.0, uv.y);
+    ivec2 t = clamp(ivec2(((f.xy / f.z) * 0.5 + 0.5) * float(r)), ivec2(0), ivec2(r - 1));
+    return ivec2(int(face) * r + t.x, t.y);
 }
 
 // Code 1: is this fragment what the shooter sees in its direction?
@@ -77,8 +76,9 @@ bool Visible()
     vec3 d = (ShooterView * vec4(RecvPos, 1.0)).xyz;
     if (d.z >= 0.0)
         return false;
-    vec3 shown = floor(texture(HemiItemBuffer, item_coordinates(d)).rgb * 255.0 + 0.5);
-    if (all(equal(shown, floor(encode_id(RecvId).rgb * 255.0 + 0.5))))
+    ivec3 shown = ivec3(texelFetch(HemiItemBuffer, item_texel(d), 0).rgb * 255.0 + 0.5);
+    int n = shown.r + 256 * shown.g + 65536 * shown.b;  // ID + 1; 0: nothing
+    if (n == int(RecvId + 0.5) + 1)
         return true;
     if (Robust == 0)
         return false;
@@ -88,7 +88,6 @@ bool Visible()
     // neighbour at a joint, a coplanar neighbour, or what lies behind a patch too small to own a
     // pixel do not hide it; a glass pane or a door a few millimetres in front of a wall does
     // (a depth comparison with slack cannot tell those apart at a pixel's resolution).
-    int n = int(shown.r) + 256 * int(shown.g) + 65536 * int(shown.b);
     if (n == 0)
         return true;
     vec4 plane = texelFetch(PolygonPlanes, ivec2((n - 1) % PlanesWidth, (n - 1) / PlanesWidth), 0);

@@ -17,7 +17,7 @@
 //! it reads from the texture, and the copy replaces the texture with the sum: same result.
 
 use super::mesh::ATTRIBUTES;
-use super::visibility::{face_rotations, VisibilityPass};
+use super::visibility::VisibilityPass;
 use super::{FormFactorKind, Shooter, SolveOptions, VisibilityKind};
 use crate::gl::objects::Attribute;
 use crate::gl::{
@@ -372,11 +372,6 @@ impl ReconstructionPass {
             "HemiCube",
             (options.visibility == VisibilityKind::Hemicube) as i32,
         );
-        let rotations: Vec<f32> = face_rotations()
-            .iter()
-            .flat_map(|m| m.to_cols_array())
-            .collect();
-        p.set_mat3_array("FaceRotation", &rotations);
         p.set_i32("Robust", options.robust_visibility as i32);
         p.set_i32("PolygonPlanes", 3);
         p.set_i32("PlanesWidth", self.planes.width);
