@@ -3,6 +3,7 @@
 
 pub mod generate;
 mod obj;
+pub mod solids;
 mod triangulate;
 
 pub use obj::{load_obj, SceneError};

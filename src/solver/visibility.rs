@@ -19,6 +19,7 @@ use crate::gl::{
     Framebuffer, GlContext, GlError, IndexStream, Program, Renderbuffer, Texture, TextureFormat,
 };
 use crate::glsl;
+use crate::scene::solids::{Plane, Solids};
 use crate::scene::Scene;
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
@@ -39,6 +40,15 @@ pub struct VisibilityPass {
     /// The triangles each view draws after culling, views one after another (reused).
     indices: Vec<u32>,
     stream: IndexStream,
+    /// The scene's convex solids, whose faces turned away from the shooter are left out (see
+    /// `scene::solids`: the item buffer stays the same).
+    solids: Solids,
+    /// Each polygon's plane.
+    planes: Vec<Plane>,
+    /// Per solid, whether the current shooter is clear of it (reused).
+    outside: Vec<bool>,
+    /// Leave out the solids' far faces (on by default; off to compare item buffers).
+    pub cull_solids: bool,
 }
 
 pub const NAME: &str = "visibility";
@@ -132,6 +142,17 @@ impl VisibilityPass {
             in_front: Vec::new(),
             indices: Vec::new(),
             stream: IndexStream::new(gl)?,
+            solids: Solids::find(scene),
+            planes: scene
+                .polygons
+                .iter()
+                .map(|p| Plane {
+                    normal: p.normal,
+                    offset: p.normal.dot(p.centroid),
+                })
+                .collect(),
+            outside: Vec::new(),
+            cull_solids: true,
         })
     }
 
@@ -155,12 +176,34 @@ impl VisibilityPass {
         let rotations = face_rotations();
         // Wholly behind the shooter's plane: nothing it could hide is looked up. The rest, with
         // their spheres' centres in the shooter's eye space, once for all the views.
+        let s = shooter.position;
+        let solids = &self.solids;
+        self.outside.clear();
+        // Clear of the near plane too: geometry nearer than it is clipped away, and a clipped
+        // near face would show the far face behind it. On a face axis, depth ≥ distance / √3.
+        let margin = self.near_far[0] * 3f32.sqrt();
+        self.outside.extend(
+            // Only where projected straight edges are exact (the hemicube): the hemispherical
+            // projection drawn with straight edges lets a far face peek past the near ones.
+            (0..solids.count()).map(|k| {
+                self.cull_solids
+                    && self.kind == VisibilityKind::Hemicube
+                    && solids.clear_of(k, s, margin)
+            }),
+        );
         self.in_front.clear();
         for (p, &(centre, radius)) in self.spheres.iter().enumerate() {
             let c = view.transform_point3(centre);
-            if c.z < radius && p != shooter.polygon {
-                self.in_front.push((p, c, radius));
+            if c.z >= radius || p == shooter.polygon {
+                continue;
             }
+            // A solid's face turned away from a shooter outside the solid hides nothing.
+            if let Some(k) = solids.solid_of[p] {
+                if self.outside[k] && self.planes[p].distance(s) < -solids.slack {
+                    continue;
+                }
+            }
+            self.in_front.push((p, c, radius));
         }
         let mut ranges = [(0usize, 0usize); 5];
         self.indices.clear();
