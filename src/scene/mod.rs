@@ -3,6 +3,7 @@
 
 pub mod generate;
 mod obj;
+pub mod plates;
 pub mod solids;
 mod triangulate;
 

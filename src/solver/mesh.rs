@@ -4,7 +4,9 @@
 use crate::gl::objects::Attribute;
 use crate::gl::{GlError, Mesh};
 use crate::patches::PatchLayout;
+use crate::scene::plates::Plates;
 use crate::scene::{triangulate, Scene};
+use glam::Vec3;
 
 /// Attribute locations, bound before linking (paper 2.2, step 9).
 pub const POSITION: u32 = 0;
@@ -31,21 +33,46 @@ const ID_OFFSET: i32 = 8;
 pub fn vertex_data(scene: &Scene, layout: &PatchLayout) -> Vec<f32> {
     let mut data = Vec::new();
     for (i, p) in scene.polygons.iter().enumerate() {
-        let m = scene.material(p);
-        for tri in triangulate(&p.vertices, p.normal) {
-            for &k in &tri {
-                let v = p.vertices[k];
-                let uv = layout.atlas_uv(i, v);
-                data.extend_from_slice(&v.to_array());
-                data.extend_from_slice(&p.normal.to_array());
-                data.extend_from_slice(&uv.to_array());
-                data.push(i as f32);
-                data.extend_from_slice(&m.kd.to_array());
-                data.extend_from_slice(&m.ke.to_array());
-            }
+        push_polygon(&mut data, scene, layout, i, &p.vertices);
+    }
+    data
+}
+
+/// The vertex data of the hemicube's visibility pass: each merged plate (`scene::plates`) as one
+/// polygon under its representative's ID, the other polygons as they are.
+pub fn plate_data(scene: &Scene, layout: &PatchLayout, plates: &Plates) -> Vec<f32> {
+    let mut data = Vec::new();
+    for (i, p) in scene.polygons.iter().enumerate() {
+        if plates.representative[i] == i {
+            let outline = plates.outlines.get(&i).unwrap_or(&p.vertices);
+            push_polygon(&mut data, scene, layout, i, outline);
         }
     }
     data
+}
+
+/// Polygon `i`'s attributes on the triangles of `outline` (its own vertices or its plate's).
+fn push_polygon(
+    data: &mut Vec<f32>,
+    scene: &Scene,
+    layout: &PatchLayout,
+    i: usize,
+    outline: &[Vec3],
+) {
+    let p = &scene.polygons[i];
+    let m = scene.material(p);
+    for tri in triangulate(outline, p.normal) {
+        for &k in &tri {
+            let v = outline[k];
+            let uv = layout.atlas_uv(i, v);
+            data.extend_from_slice(&v.to_array());
+            data.extend_from_slice(&p.normal.to_array());
+            data.extend_from_slice(&uv.to_array());
+            data.push(i as f32);
+            data.extend_from_slice(&m.kd.to_array());
+            data.extend_from_slice(&m.ke.to_array());
+        }
+    }
 }
 
 /// The scene for the visibility pass, with every triangle cut into a grid of sub-triangles

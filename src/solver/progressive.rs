@@ -13,7 +13,7 @@
 use super::find_max_energy::EnergyTotals;
 use super::reconstruction::{Lightmaps, ReconstructionPass};
 use super::visibility::VisibilityPass;
-use super::{mesh, shooters, Shooter, ShotRecord, SolveOptions};
+use super::{mesh, shooters, Shooter, ShotRecord, SolveOptions, VisibilityKind};
 use crate::gl::{GlContext, GlError, Mesh};
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
@@ -116,13 +116,17 @@ impl<'a> GpuSolver<'a> {
         let gl = &ctx.gl;
         let mesh = mesh::upload(gl, &mesh::vertex_data(scene, layout))?;
         let n = scene.polygons.len();
-        let visibility_mesh = if options.tessellation > 0.0 {
+        let mut visibility = VisibilityPass::new(ctx, options.visibility, options.hemi_res, scene)?;
+        let data = if options.tessellation > 0.0 {
             let size = options.tessellation * layout.patch_size;
-            mesh::upload_scene(gl, &mesh::tessellated_data(scene, layout, size), n)?
+            mesh::tessellated_data(scene, layout, size)
+        } else if options.visibility == VisibilityKind::Hemicube && options.robust_visibility {
+            // Plates: the robust test reads the shown polygon's plane, which a plate shares.
+            mesh::plate_data(scene, layout, visibility.merge_plates(scene))
         } else {
-            mesh::upload_scene(gl, &mesh::vertex_data(scene, layout), n)?
+            mesh::vertex_data(scene, layout)
         };
-        let visibility = VisibilityPass::new(ctx, options.visibility, options.hemi_res, scene)?;
+        let visibility_mesh = mesh::upload_scene(gl, &data, n)?;
         let reconstruction = ReconstructionPass::new(ctx, scene, layout)?;
         let lightmaps = Lightmaps::new(ctx, w as i32, h as i32)?;
 

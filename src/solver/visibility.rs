@@ -19,6 +19,7 @@ use crate::gl::{
     Framebuffer, GlContext, GlError, IndexStream, Program, Renderbuffer, Texture, TextureFormat,
 };
 use crate::glsl;
+use crate::scene::plates::Plates;
 use crate::scene::solids::{Plane, Solids};
 use crate::scene::Scene;
 use glam::{Mat3, Mat4, Vec3};
@@ -49,6 +50,8 @@ pub struct VisibilityPass {
     outside: Vec<bool>,
     /// Leave out the solids' far faces (on by default; off to compare item buffers).
     pub cull_solids: bool,
+    /// Coplanar polygons drawn as one (`merge_plates`; at first every polygon alone).
+    plates: Plates,
 }
 
 pub const NAME: &str = "visibility";
@@ -153,7 +156,34 @@ impl VisibilityPass {
                 .collect(),
             outside: Vec::new(),
             cull_solids: true,
+            plates: Plates::none(scene.polygons.len()),
         })
+    }
+
+    /// Merge coplanar polygons outside the solids into plates (hemicube only: the hemispherical
+    /// projection needs small polygons, and bigger ones would curve more). The caller then
+    /// draws a mesh made by `mesh::plate_data` from the plates returned; the item buffer shows
+    /// each plate under its representative's ID. Only for the robust visibility test, which
+    /// reads the shown polygon's plane, not its ID alone.
+    pub fn merge_plates(&mut self, scene: &Scene) -> &Plates {
+        if self.kind == VisibilityKind::Hemicube {
+            let solids = &self.solids;
+            self.plates = Plates::find(scene, |p| solids.solid_of[p].is_none());
+            for (&p, outline) in &self.plates.outlines {
+                let centre = outline.iter().fold(Vec3::ZERO, |s, &v| s + v) / outline.len() as f32;
+                let radius = outline
+                    .iter()
+                    .map(|v| v.distance(centre))
+                    .fold(0.0, f32::max);
+                self.spheres[p] = (centre, radius);
+            }
+        }
+        &self.plates
+    }
+
+    /// The polygon whose ID the item buffer shows where polygon `p` is seen.
+    pub fn shown_as(&self, p: usize) -> usize {
+        self.plates.representative[p]
     }
 
     /// Draw the item buffer from `shooter`. Each view draws only the polygons whose bounding
@@ -192,9 +222,14 @@ impl VisibilityPass {
             }),
         );
         self.in_front.clear();
+        // The shooter's plate lies in the shooter's plane, which the near plane clips away.
+        let shooter_plate = self.plates.representative[shooter.polygon];
         for (p, &(centre, radius)) in self.spheres.iter().enumerate() {
+            if self.plates.representative[p] != p || p == shooter_plate {
+                continue;
+            }
             let c = view.transform_point3(centre);
-            if c.z >= radius || p == shooter.polygon {
+            if c.z >= radius {
                 continue;
             }
             // A solid's face turned away from a shooter outside the solid hides nothing.
@@ -242,7 +277,7 @@ impl VisibilityPass {
             gl.clear(glow::DEPTH_BUFFER_BIT);
         }
         self.program.use_program();
-        self.program.set_f32("ShooterId", shooter.polygon as f32);
+        self.program.set_f32("ShooterId", shooter_plate as f32);
         self.program.set_mat4("ShooterView", &view.to_cols_array());
         match self.kind {
             VisibilityKind::Hemisphere => {

@@ -1,0 +1,212 @@
+//! Plates: coplanar polygons that share whole edges, merged while their union stays convex (a
+//! floor of tiles or planks, a ceiling of tiles becomes one or a few large polygons). The
+//! hemicube's visibility pass draws a plate once, under the ID of its first polygon: the
+//! reconstruction pass's robust test reads only the shown polygon's plane, which every polygon
+//! of a plate shares, so it answers the same for every receiver; on llvmpipe a few large
+//! triangles cost much less to set up and bin than hundreds of small ones.
+
+use super::solids::Plane;
+use super::Scene;
+use glam::Vec3;
+use std::collections::HashMap;
+
+#[derive(Clone, Debug, Default)]
+pub struct Plates {
+    /// Per polygon: the first polygon of its plate (itself if it is alone).
+    pub representative: Vec<usize>,
+    /// Per representative of a merged plate: the plate's outline, counter-clockwise.
+    pub outlines: HashMap<usize, Vec<Vec3>>,
+}
+
+impl Plates {
+    /// Every polygon on its own.
+    pub fn none(polygons: usize) -> Plates {
+        Plates {
+            representative: (0..polygons).collect(),
+            outlines: HashMap::new(),
+        }
+    }
+
+    /// Merge the coplanar neighbours among `candidates` (polygons that may be merged).
+    pub fn find(scene: &Scene, candidates: impl Fn(usize) -> bool) -> Plates {
+        let n = scene.polygons.len();
+        let (lo, hi) = scene.bounds();
+        let slack = 1e-5 * (hi - lo).length();
+        let mut plates = Plates::none(n);
+        // Coplanar groups: same plane up to float noise (keys rounded; neighbours across a
+        // rounding boundary just stay apart).
+        let mut groups: HashMap<[i64; 4], Vec<usize>> = HashMap::new();
+        for (i, p) in scene.polygons.iter().enumerate() {
+            if !candidates(i) {
+                continue;
+            }
+            let d = p.normal.dot(p.centroid);
+            let key = [
+                (p.normal.x * 1e4).round() as i64,
+                (p.normal.y * 1e4).round() as i64,
+                (p.normal.z * 1e4).round() as i64,
+                (d / (10.0 * slack)).round() as i64,
+            ];
+            groups.entry(key).or_default().push(i);
+        }
+        let mut keys: Vec<_> = groups.keys().copied().collect();
+        keys.sort_unstable();
+        for key in keys {
+            let members = &groups[&key];
+            if members.len() < 2 {
+                continue;
+            }
+            let plane = {
+                let p = &scene.polygons[members[0]];
+                Plane {
+                    normal: p.normal,
+                    offset: p.normal.dot(p.centroid),
+                }
+            };
+            // Each live plate: (representative, outline, polygons).
+            let mut live: Vec<(usize, Vec<Vec3>, Vec<usize>)> = members
+                .iter()
+                .map(|&m| (m, scene.polygons[m].vertices.clone(), vec![m]))
+                .collect();
+            'merging: loop {
+                for a in 0..live.len() {
+                    for b in a + 1..live.len() {
+                        if let Some(union) = merge(&live[a].1, &live[b].1, plane.normal, slack) {
+                            let (_, _, taken) = live.swap_remove(b);
+                            live[a].1 = union;
+                            live[a].2.extend(taken);
+                            continue 'merging;
+                        }
+                    }
+                }
+                break;
+            }
+            for (_, outline, polygons) in live {
+                if polygons.len() < 2 {
+                    continue;
+                }
+                let first = *polygons.iter().min().unwrap();
+                for &p in &polygons {
+                    plates.representative[p] = first;
+                }
+                plates.outlines.insert(first, outline);
+            }
+        }
+        plates
+    }
+
+    /// Polygons that were merged into another's plate (drawn by their representative).
+    pub fn merged_away(&self) -> usize {
+        self.representative
+            .iter()
+            .enumerate()
+            .filter(|(i, &r)| *i != r)
+            .count()
+    }
+}
+
+/// The union of two convex outlines sharing a whole edge (a runs u→v, b runs v→u), if it is
+/// convex; corners left in the middle of a straight side are dropped.
+fn merge(a: &[Vec3], b: &[Vec3], normal: Vec3, slack: f32) -> Option<Vec<Vec3>> {
+    let (na, nb) = (a.len(), b.len());
+    for i in 0..na {
+        let (u, v) = (a[i], a[(i + 1) % na]);
+        let Some(j) = (0..nb).find(|&j| b[j] == v && b[(j + 1) % nb] == u) else {
+            continue;
+        };
+        // a from v round to u, then b from after u round to before v.
+        let mut union: Vec<Vec3> = (0..na).map(|k| a[(i + 1 + k) % na]).collect();
+        union.extend((0..nb - 2).map(|k| b[(j + 2 + k) % nb]));
+        let union = drop_straight_corners(union, normal, slack);
+        let m = union.len();
+        let convex = m >= 3
+            && (0..m).all(|k| {
+                let (p, q, r) = (union[k], union[(k + 1) % m], union[(k + 2) % m]);
+                (q - p).cross(r - q).dot(normal) >= -slack * (q - p).length()
+            });
+        return convex.then_some(union);
+    }
+    None
+}
+
+fn drop_straight_corners(mut v: Vec<Vec3>, normal: Vec3, slack: f32) -> Vec<Vec3> {
+    let straight = |v: &[Vec3], k: usize| {
+        let m = v.len();
+        let (p, q, r) = (v[(k + m - 1) % m], v[k], v[(k + 1) % m]);
+        (q - p).cross(r - q).dot(normal).abs() <= slack * (r - p).length()
+            && (q - p).dot(r - q) > 0.0
+    };
+    while v.len() > 3 {
+        match (0..v.len()).find(|&k| straight(&v, k)) {
+            Some(k) => {
+                v.remove(k);
+            }
+            None => break,
+        }
+    }
+    v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Material, Polygon};
+
+    fn tile(x0: f32, z0: f32, x1: f32, z1: f32) -> Polygon {
+        // Facing +y: counter-clockwise seen from above.
+        let v = [[x0, 0., z0], [x0, 0., z1], [x1, 0., z1], [x1, 0., z0]];
+        Polygon::new(v.map(Vec3::from_array).to_vec(), 0, "floor".into()).unwrap()
+    }
+
+    fn scene(polygons: Vec<Polygon>) -> Scene {
+        Scene {
+            name: "t".into(),
+            polygons,
+            materials: vec![Material {
+                name: "m".into(),
+                kd: Vec3::splat(0.5),
+                ke: Vec3::ZERO,
+            }],
+            vertex_count: 0,
+            camera: None,
+            patch_size: None,
+            skipped_degenerate: 0,
+        }
+    }
+
+    #[test]
+    fn a_grid_of_tiles_becomes_one_rectangle() {
+        let mut tiles = Vec::new();
+        for i in 0..4 {
+            for j in 0..3 {
+                tiles.push(tile(i as f32, j as f32, i as f32 + 1.0, j as f32 + 1.0));
+            }
+        }
+        let plates = Plates::find(&scene(tiles), |_| true);
+        assert!(plates.representative.iter().all(|&r| r == 0));
+        let outline = &plates.outlines[&0];
+        assert_eq!(outline.len(), 4, "{outline:?}");
+        let area = crate::scene::Polygon::new(outline.clone(), 0, "p".into())
+            .unwrap()
+            .area;
+        assert!((area - 12.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn an_l_shape_stays_two_plates_and_a_gap_is_not_bridged() {
+        // Three tiles in an L: any two merge, the third would make the union concave.
+        let l = vec![
+            tile(0., 0., 1., 1.),
+            tile(1., 0., 2., 1.),
+            tile(0., 1., 1., 2.),
+        ];
+        let plates = Plates::find(&scene(l), |_| true);
+        assert_eq!(plates.merged_away(), 1);
+        // Tiles with a gap between them share no edge.
+        let gap = vec![tile(0., 0., 1., 1.), tile(1.5, 0., 2.5, 1.)];
+        assert_eq!(Plates::find(&scene(gap), |_| true).merged_away(), 0);
+        // Not a candidate: left alone.
+        let two = vec![tile(0., 0., 1., 1.), tile(1., 0., 2., 1.)];
+        assert_eq!(Plates::find(&scene(two), |p| p != 1).merged_away(), 0);
+    }
+}
