@@ -303,7 +303,8 @@ pub struct Attribute {
     pub offset: i32,
 }
 
-/// An interleaved float vertex buffer with its vertex array object; drawn as triangles.
+/// An interleaved float vertex buffer with its vertex array object; drawn as triangles (or
+/// points).
 pub struct Mesh {
     gl: Gl,
     vao: glow::VertexArray,
@@ -361,6 +362,15 @@ impl Mesh {
             self.gl.bind_buffer(glow::ARRAY_BUFFER, None);
         }
         self.vertex_count = data.len() as i32 / floats_per_vertex;
+    }
+
+    /// Every vertex as a point (sized by the vertex shader: enable `PROGRAM_POINT_SIZE`).
+    pub fn draw_points(&self) {
+        unsafe {
+            self.gl.bind_vertex_array(Some(self.vao));
+            self.gl.draw_arrays(glow::POINTS, 0, self.vertex_count);
+            self.gl.bind_vertex_array(None);
+        }
     }
 
     pub fn draw_range(&self, first: i32, count: i32) {

@@ -4,13 +4,16 @@
 //! received energy; the results are copied into the lightmap textures with glCopyTexSubImage2D.
 //!
 //! The receivers are rasterised once, at initialisation, into atlas textures holding each patch's
-//! position, normal and reflectance (`glsl/patchdata.frag`); every pass then draws one rectangle
-//! per receiver, its lightmap's, and reads them (on llvmpipe, setting up the triangles of 1,602
-//! small polygons cost more than all of the pass's fragment work). Only receivers that can get
-//! anything are drawn: some of the polygon in front of the shooter and some of the shooter in
-//! front of the polygon (the rest would add exactly zero), plus the shooter, whose unshot energy
-//! is cleared. The renderbuffers are never cleared after initialisation, so the texels not drawn
-//! keep what the last copy put into the textures: each copy still moves a whole, current atlas.
+//! position, normal and reflectance (`glsl/patchdata.frag`); every pass then draws squares of
+//! whole 4×4 texel blocks covering the lightmaps of the receivers (`cover`) and reads them.
+//! llvmpipe runs the whole shader on every block a primitive touches (its discards and branches
+//! skip nothing), so the cost of a pass is the number of blocks drawn: the solver's atlas has no
+//! gutters (`PatchLayout::without_gutters`) and each block is drawn once. Only receivers that can
+//! get anything are covered: some of the polygon in front of the shooter and some of the shooter
+//! in front of the polygon (the rest would add exactly zero, and do where a square reaches them),
+//! plus the shooter, whose unshot energy is cleared. The renderbuffers are never cleared after
+//! initialisation, so the texels not drawn keep what the last copy put into the textures: each
+//! copy still moves a whole, current atlas.
 //!
 //! Two attachments: 0 = radiosity + ΔL, 1 = unshot + ΔL (the shooter's own unshot cleared).
 //! The paper adds with GL_ADD while copying; a copy cannot add, so the shader adds the old value
@@ -78,9 +81,22 @@ pub struct ReconstructionPass {
     plane_slack: f32,
     emission: Program,
     patches: PatchData,
-    /// The rectangles a pass draws, two triangles each (rebuilt every pass).
+    /// The squares a pass draws (rebuilt every pass): points (centre, side) or two triangles
+    /// each (corner, 0).
     rects: Mesh,
     corners: Vec<f32>,
+    /// Which 4×4 blocks of the atlas hold a receiver this pass, row by row.
+    blocks: Vec<bool>,
+    blocks_wide: usize,
+    /// Largest square side drawn, texels (a power of two, at least `BLOCK`).
+    largest_square: u32,
+    /// Squares drawn as points (llvmpipe rasterises a point's square in one piece) or, where the
+    /// implementation's points are too small, as triangle pairs.
+    pub squares_as_points: bool,
+    /// The viewport: the atlas rounded up to whole largest squares, so that every square's
+    /// centre lies inside it (a point whose centre is clipped away draws nothing); the scissor
+    /// keeps fragments inside the atlas.
+    viewport: (i32, i32),
     /// Polygons in atlas order (shelf by shelf, left to right), without empty lightmaps.
     atlas_order: Vec<usize>,
     /// Lightmap rectangles [x0, y0, x1, y1), per polygon.
@@ -112,7 +128,7 @@ impl ReconstructionPass {
             gl,
             glsl!("atlas.vert"),
             glsl!("reconstruct.frag"),
-            &[(0, "Corner")],
+            &[(0, "Corner"), (1, "Size")],
             outputs,
         )?;
         let texels = layout.texel_rects();
@@ -123,13 +139,32 @@ impl ReconstructionPass {
         let rects = Mesh::new(
             gl,
             &[],
-            2,
-            &[Attribute {
-                location: 0,
-                size: 2,
-                offset: 0,
-            }],
+            3,
+            &[
+                Attribute {
+                    location: 0,
+                    size: 2,
+                    offset: 0,
+                },
+                Attribute {
+                    location: 1,
+                    size: 1,
+                    offset: 2,
+                },
+            ],
         )?;
+        let mut point_range = [0.0f32; 2];
+        unsafe { gl.get_parameter_f32_slice(glow::ALIASED_POINT_SIZE_RANGE, &mut point_range) };
+        let squares_as_points = point_range[1] >= BLOCK as f32;
+        let largest_square = if squares_as_points {
+            let fits = 1u32 << (point_range[1] as u32).ilog2();
+            fits.clamp(BLOCK, LARGEST_SQUARE)
+        } else {
+            LARGEST_SQUARE
+        };
+        let round_up = |t: i32| (t as u32).div_ceil(largest_square) as i32 * largest_square as i32;
+        let blocks_wide = (width as u32).div_ceil(BLOCK) as usize;
+        let blocks = vec![false; blocks_wide * (height as u32).div_ceil(BLOCK) as usize];
         let mut starts = vec![0];
         let mut outlines = Vec::new();
         for p in &scene.polygons {
@@ -188,6 +223,11 @@ impl ReconstructionPass {
             patches,
             rects,
             corners: Vec::new(),
+            blocks,
+            blocks_wide,
+            largest_square,
+            squares_as_points,
+            viewport: (round_up(width), round_up(height)),
             atlas_order,
             texels,
             touched: Vec::new(),
@@ -281,45 +321,43 @@ impl ReconstructionPass {
         ctx.check(INIT_NAME)
     }
 
-    /// The rectangles to draw for `shooter`: the lightmaps of the polygons that can receive (and
-    /// the shooter's), neighbours on a shelf of the atlas merged into one rectangle (what lies
-    /// between them is gutter, which the shader discards): on llvmpipe each small triangle costs
-    /// about as much to set up as dozens of fragments.
+    /// The receivers to draw for `shooter`: the lightmaps of the polygons that can receive (and
+    /// the shooter's), covered by aligned squares of whole 4×4 blocks (`cover`).
     fn select_receivers(&mut self, shooter: &Shooter) {
         self.touched.clear();
-        self.corners.clear();
-        let (w, h) = (self.width as f32, self.height as f32);
-        let mut run: Option<[u32; 4]> = None;
-        let flush = |run: &mut Option<[u32; 4]>, corners: &mut Vec<f32>| {
-            if let Some([x0, y0, x1, y1]) = run.take() {
-                let x = |t: u32| t as f32 / w * 2.0 - 1.0;
-                let y = |t: u32| t as f32 / h * 2.0 - 1.0;
-                let (x0, y0, x1, y1) = (x(x0), y(y0), x(x1), y(y1));
-                corners.extend_from_slice(&[x0, y0, x1, y0, x1, y1, x0, y0, x1, y1, x0, y1]);
-            }
-        };
+        self.blocks.fill(false);
+        let bw = self.blocks_wide;
         for k in 0..self.atlas_order.len() {
             let p = self.atlas_order[k];
             if p != shooter.polygon && !self.can_receive(p, shooter) {
-                flush(&mut run, &mut self.corners);
                 continue;
             }
             self.touched.push(p);
-            let t = self.texels[p];
-            match &mut run {
-                // Same shelf (shelves stack, so the taller rectangle never reaches the next).
-                Some(r) if r[1] == t[1] => {
-                    r[2] = t[2];
-                    r[3] = r[3].max(t[3]);
-                }
-                _ => {
-                    flush(&mut run, &mut self.corners);
-                    run = Some(t);
-                }
+            let [x0, y0, x1, y1] = self.texels[p];
+            for by in y0 / BLOCK..y1.div_ceil(BLOCK) {
+                let row = by as usize * bw;
+                self.blocks[row + (x0 / BLOCK) as usize..row + x1.div_ceil(BLOCK) as usize]
+                    .fill(true);
             }
         }
-        flush(&mut run, &mut self.corners);
-        self.rects.replace(&self.corners, 2);
+        self.corners.clear();
+        let size = self.viewport;
+        let points = self.squares_as_points;
+        cover(&self.blocks, bw, self.largest_square, |x, y, side| {
+            let ndc = |t: u32, extent: i32| t as f32 / extent as f32 * 2.0 - 1.0;
+            if points {
+                // A point's centre; an even-sided point covers the pixels centred within side/2.
+                let (cx, cy) = (ndc(x * 2 + side, size.0 * 2), ndc(y * 2 + side, size.1 * 2));
+                self.corners.extend_from_slice(&[cx, cy, side as f32]);
+            } else {
+                let (x0, y0) = (ndc(x, size.0), ndc(y, size.1));
+                let (x1, y1) = (ndc(x + side, size.0), ndc(y + side, size.1));
+                for [u, v] in [[x0, y0], [x1, y0], [x1, y1], [x0, y0], [x1, y1], [x0, y1]] {
+                    self.corners.extend_from_slice(&[u, v, 0.0]);
+                }
+            }
+        });
+        self.rects.replace(&self.corners, 3);
     }
 
     /// One reconstruction: ΔL for every patch from `shooter`, added to `radiosity` and `unshot`
@@ -376,9 +414,20 @@ impl ReconstructionPass {
         p.set_i32("PolygonPlanes", 3);
         p.set_i32("PlanesWidth", self.planes.width);
         p.set_f32("PlaneSlack", self.plane_slack);
-        self.rects.draw();
         unsafe {
-            ctx.gl.active_texture(glow::TEXTURE0);
+            let gl = &ctx.gl;
+            gl.viewport(0, 0, self.viewport.0, self.viewport.1);
+            gl.enable(glow::SCISSOR_TEST);
+            gl.scissor(0, 0, self.width, self.height);
+            if self.squares_as_points {
+                gl.enable(glow::PROGRAM_POINT_SIZE);
+                self.rects.draw_points();
+                gl.disable(glow::PROGRAM_POINT_SIZE);
+            } else {
+                self.rects.draw();
+            }
+            gl.disable(glow::SCISSOR_TEST);
+            gl.active_texture(glow::TEXTURE0);
         }
         ctx.check(NAME)
     }
@@ -408,6 +457,55 @@ impl ReconstructionPass {
     }
 }
 
+/// Squares are made of whole blocks of 4×4 texels: llvmpipe shades a block of 4×4 fragments at a
+/// time, all of them, even where the primitive covers one.
+const BLOCK: u32 = 4;
+/// Larger squares would be drawn partly over blocks that need nothing.
+const LARGEST_SQUARE: u32 = 64;
+
+/// Cover the set `blocks` (rows of `wide` blocks) with aligned squares of whole blocks, none
+/// larger than `largest` texels, each block exactly once: `emit(x, y, side)` in texels. A
+/// square is split into its four quarters unless all of its blocks inside the grid are set.
+///
+/// Why squares and not the receivers' rectangles: a rectangle is two triangles, and llvmpipe
+/// shades every block its diagonal crosses once for each; a thin rectangle of lightmaps costs
+/// about twice its area. A square drawn as one point is shaded block by block, once.
+fn cover(blocks: &[bool], wide: usize, largest: u32, mut emit: impl FnMut(u32, u32, u32)) {
+    let high = blocks.len() / wide.max(1);
+    let top = (largest / BLOCK) as usize;
+    let mut stack = Vec::new();
+    for y in (0..high).step_by(top) {
+        for x in (0..wide).step_by(top) {
+            stack.push((x, y, top));
+            while let Some((x, y, side)) = stack.pop() {
+                let (x1, y1) = ((x + side).min(wide), (y + side).min(high));
+                let set = (y..y1)
+                    .map(|by| {
+                        blocks[by * wide + x..by * wide + x1]
+                            .iter()
+                            .filter(|&&b| b)
+                            .count()
+                    })
+                    .sum::<usize>();
+                if set == 0 {
+                    continue;
+                }
+                if set == (x1 - x) * (y1 - y) {
+                    let t = |b: usize| b as u32 * BLOCK;
+                    emit(t(x), t(y), t(side));
+                    continue;
+                }
+                let half = side / 2;
+                for (dx, dy) in [(0, 0), (half, 0), (0, half), (half, half)] {
+                    if x + dx < wide && y + dy < high {
+                        stack.push((x + dx, y + dy, half));
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// The polygons' planes as an RGBA32F texture (see `ReconstructionPass::planes`).
 fn polygon_planes(ctx: &GlContext, scene: &Scene) -> Result<Texture, GlError> {
     let n = scene.polygons.len().max(1);
@@ -426,4 +524,41 @@ fn polygon_planes(ctx: &GlContext, scene: &Scene) -> Result<Texture, GlError> {
     )?;
     texture.upload_f32(&data);
     Ok(texture)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cover_draws_every_set_block_once_and_nothing_else() {
+        // 37 x 23 blocks (not a multiple of any square), a pseudo-random pattern with solid
+        // patches, so that squares of every size appear.
+        let (wide, high) = (37usize, 23usize);
+        let blocks: Vec<bool> = (0..wide * high)
+            .map(|i| {
+                let (x, y) = (i % wide, i / wide);
+                (x < 20 && y < 17) || (x * 7 + y * 13) % 5 < 2
+            })
+            .collect();
+        let mut drawn = vec![0u32; blocks.len()];
+        let mut sides = std::collections::BTreeSet::new();
+        cover(&blocks, wide, LARGEST_SQUARE, |x, y, side| {
+            assert!(
+                x % side == 0 && y % side == 0,
+                "square {x},{y} side {side} unaligned"
+            );
+            sides.insert(side);
+            let b = |t: u32| (t / BLOCK) as usize;
+            for by in b(y)..b(y + side).min(high) {
+                for bx in b(x)..b(x + side).min(wide) {
+                    drawn[by * wide + bx] += 1;
+                }
+            }
+        });
+        for (i, (&set, &n)) in blocks.iter().zip(&drawn).enumerate() {
+            assert_eq!(n, set as u32, "block {i}: set {set}, drawn {n} times");
+        }
+        assert!(sides.len() >= 3, "sides used: {sides:?}");
+    }
 }
