@@ -94,7 +94,7 @@ fn per_shot_totals_equal_a_full_recount() {
         let areas: Vec<f64> = (0..n).map(|p| gpu.patch_area(p)).collect();
         for _ in 0..12 {
             let g = gpu.step().unwrap().unwrap();
-            let full = EnergyTotals::sum(gpu.unshot_atlas(), n, Some(&areas));
+            let full = EnergyTotals::sum(&gpu.unshot_atlas(), n, Some(&areas));
             assert_eq!(g.unshot_fraction, full.total_power() / gpu.emitted_power());
             let c = cpu.step().unwrap();
             let full = EnergyTotals::sum(cpu.unshot_atlas(), n, Some(cpu.patch_areas()));

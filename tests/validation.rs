@@ -89,7 +89,7 @@ fn the_ambient_term_accounts_for_the_unshot_energy() {
     };
     let mut atlas = solver.radiosity_atlas();
     let before = total(&atlas);
-    let l = gpu_radiosity::display::ambient::ambient(&scene, solver.unshot_atlas(), &areas);
+    let l = gpu_radiosity::display::ambient::ambient(&scene, &solver.unshot_atlas(), &areas);
     gpu_radiosity::display::ambient::add_ambient(&scene, &mut atlas, l);
     let after = total(&atlas);
     println!(

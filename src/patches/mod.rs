@@ -201,6 +201,50 @@ impl PatchLayout {
         Ok(layout)
     }
 
+    /// The same lightmaps packed edge to edge, without gutters: the solver's own atlas. Only the
+    /// display filters between texels and needs the gutters; without them the atlas holds about
+    /// twice the patches per texel, and the reconstruction pass, which shades whole blocks of
+    /// texels, does about half the work.
+    pub fn without_gutters(&self) -> PatchLayout {
+        let sizes: Vec<(u32, u32)> = self.lightmaps.iter().map(|l| (l.w, l.h)).collect();
+        let packed = atlas::pack(&sizes);
+        let mut dense = PatchLayout {
+            atlas_width: packed.width,
+            atlas_height: packed.height,
+            patch_size: self.patch_size,
+            lightmaps: self.lightmaps.clone(),
+            owner: vec![0; packed.width as usize * packed.height as usize],
+            patches_per_polygon: self.patches_per_polygon.clone(),
+        };
+        for (l, &(x, y)) in dense.lightmaps.iter_mut().zip(&packed.positions) {
+            (l.x, l.y) = (x, y);
+        }
+        let mut owner = vec![0; dense.owner.len()];
+        self.move_texels(&self.owner, 1, &dense, &mut owner);
+        dense.owner = owner;
+        dense
+    }
+
+    /// An atlas of this layout (`channels` values per texel) moved into `to`, a layout of the
+    /// same lightmaps placed elsewhere: every lightmap's texels, the rest zero.
+    pub fn move_atlas(&self, data: &[f32], channels: usize, to: &PatchLayout) -> Vec<f32> {
+        let mut out = vec![0.0; to.atlas_width as usize * to.atlas_height as usize * channels];
+        self.move_texels(data, channels, to, &mut out);
+        out
+    }
+
+    fn move_texels<T: Copy>(&self, data: &[T], channels: usize, to: &PatchLayout, out: &mut [T]) {
+        for (a, b) in self.lightmaps.iter().zip(&to.lightmaps) {
+            let row = a.w as usize * channels;
+            for t in 0..a.h as usize {
+                let from =
+                    ((a.y as usize + t) * self.atlas_width as usize + a.x as usize) * channels;
+                let into = ((b.y as usize + t) * to.atlas_width as usize + b.x as usize) * channels;
+                out[into..into + row].copy_from_slice(&data[from..from + row]);
+            }
+        }
+    }
+
     /// Every lightmap's texel rectangle [x0, y0, x1, y1), in polygon order.
     pub fn texel_rects(&self) -> Vec<[u32; 4]> {
         self.lightmaps.iter().map(Lightmap::texels).collect()

@@ -15,7 +15,7 @@ use super::reconstruction::{Lightmaps, ReconstructionPass};
 use super::visibility::VisibilityPass;
 use super::{mesh, shooters, Shooter, ShotRecord, SolveOptions, VisibilityKind};
 use crate::gl::{GlContext, GlError, Mesh};
-use crate::patches::PatchLayout;
+use crate::patches::{Lightmap, PatchLayout};
 use crate::scene::Scene;
 use mesh::SceneMesh;
 use std::time::Instant;
@@ -60,11 +60,15 @@ pub struct PassTimes {
 pub struct GpuSolver<'a> {
     ctx: &'a GlContext,
     scene: &'a Scene,
+    /// The caller's layout, in which the atlases are handed out.
     layout: &'a PatchLayout,
-    mesh: Mesh,
+    /// The same lightmaps without gutters, in which the passes work.
+    dense: PatchLayout,
+    /// The scene with the caller's lightmap coordinates, for display.
+    display_mesh: Mesh,
     visibility_mesh: SceneMesh,
     pub visibility: VisibilityPass,
-    reconstruction: ReconstructionPass,
+    pub reconstruction: ReconstructionPass,
     lightmaps: Lightmaps,
     options: SolveOptions,
     patch_area: Vec<f64>,
@@ -94,6 +98,9 @@ impl<'a> GpuSolver<'a> {
             .info
             .max_texture_size
             .min(ctx.info.max_renderbuffer_size);
+        let public = layout;
+        let dense = layout.without_gutters();
+        let layout = &dense;
         let (w, h) = (layout.atlas_width, layout.atlas_height);
         if w as i64 > max as i64 || h as i64 > max as i64 {
             let scale = (w.max(h) as f32 / max as f32) * 1.05;
@@ -115,6 +122,7 @@ impl<'a> GpuSolver<'a> {
         }
         let gl = &ctx.gl;
         let mesh = mesh::upload(gl, &mesh::vertex_data(scene, layout))?;
+        let display_mesh = mesh::upload(gl, &mesh::vertex_data(scene, public))?;
         let n = scene.polygons.len();
         let mut visibility = VisibilityPass::new(ctx, options.visibility, options.hemi_res, scene)?;
         let data = if options.tessellation > 0.0 {
@@ -153,8 +161,9 @@ impl<'a> GpuSolver<'a> {
         Ok(GpuSolver {
             ctx,
             scene,
-            layout,
-            mesh,
+            layout: public,
+            dense,
+            display_mesh,
             visibility_mesh,
             visibility,
             reconstruction,
@@ -197,16 +206,26 @@ impl<'a> GpuSolver<'a> {
     }
 
     /// The shooters that carry polygon `p`'s unshot energy (see `shooters::shooters_of`).
+    /// Polygon `p`'s shooters, their texels in the caller's layout (as a `CpuSolver` on that
+    /// layout takes them).
     pub fn shooters_of(&self, p: usize) -> Vec<Shooter> {
-        shooters::shooters_of(
+        let mut shooters = shooters::shooters_of(
             self.scene,
-            self.layout,
+            &self.dense,
             &self.options,
             &self.scratch,
             &self.patch_area,
             &self.totals,
             p,
-        )
+        );
+        for s in &mut shooters {
+            s.texels = move_rect(
+                s.texels,
+                &self.dense.lightmaps[p],
+                &self.layout.lightmaps[p],
+            );
+        }
+        shooters
     }
 
     /// One shot; `None` once the stopping rule holds (or nothing is left to shoot).
@@ -232,6 +251,15 @@ impl<'a> GpuSolver<'a> {
         let shot_power: f64 = shooters.iter().map(|s| s.power()).sum();
         self.changed.clear();
         for shooter in shooters {
+            let p = shooter.polygon;
+            let shooter = &Shooter {
+                texels: move_rect(
+                    shooter.texels,
+                    &self.layout.lightmaps[p],
+                    &self.dense.lightmaps[p],
+                ),
+                ..*shooter
+            };
             let t = Instant::now();
             self.visibility.run(ctx, &self.visibility_mesh, shooter)?;
             let t1 = Instant::now();
@@ -257,7 +285,7 @@ impl<'a> GpuSolver<'a> {
         self.changed.dedup();
         self.totals.update(
             &self.scratch,
-            self.layout.atlas_width as usize,
+            self.dense.atlas_width as usize,
             self.reconstruction.texels(),
             &self.changed,
             &self.patch_area,
@@ -288,24 +316,27 @@ impl<'a> GpuSolver<'a> {
         Ok(())
     }
 
-    /// The accumulated radiance atlas, RGBA (alpha: polygon ID + 1), rows bottom to top.
+    /// The accumulated radiance atlas in the caller's layout, RGBA (alpha: polygon ID + 1),
+    /// rows bottom to top.
     pub fn radiosity_atlas(&self) -> Vec<f32> {
         let mut out = Vec::new();
         self.lightmaps.radiosity.read_f32(&mut out);
-        out
+        self.dense.move_atlas(&out, 4, self.layout)
     }
 
-    /// The unshot radiance atlas as last read back (RGBA, alpha: polygon ID + 1).
-    pub fn unshot_atlas(&self) -> &[f32] {
-        &self.scratch
+    /// The unshot radiance atlas as last read back, in the caller's layout (RGBA, alpha:
+    /// polygon ID + 1).
+    pub fn unshot_atlas(&self) -> Vec<f32> {
+        self.dense.move_atlas(&self.scratch, 4, self.layout)
     }
 
     pub fn patch_area(&self, polygon: usize) -> f64 {
         self.patch_area[polygon]
     }
 
+    /// The scene for displaying `radiosity_atlas` (the caller's layout).
     pub fn mesh(&self) -> &Mesh {
-        &self.mesh
+        &self.display_mesh
     }
 
     /// Restart the clock of the history's `seconds`, as `solve` does (for callers that drive
@@ -324,4 +355,10 @@ impl<'a> GpuSolver<'a> {
     pub fn set_threshold(&mut self, threshold: f32) {
         self.options.threshold = threshold;
     }
+}
+
+/// A texel rectangle of lightmap `from` at the same place in `to` (the same lightmap elsewhere).
+fn move_rect(r: [u32; 4], from: &Lightmap, to: &Lightmap) -> [u32; 4] {
+    let (x, y) = (|t: u32| t - from.x + to.x, |t: u32| t - from.y + to.y);
+    [x(r[0]), y(r[1]), x(r[2]), y(r[3])]
 }

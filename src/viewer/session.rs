@@ -93,7 +93,7 @@ impl<'a> Session<'a> {
         self.layout.dilate(&mut radiance);
         self.display.upload(&radiance);
         let unshot = self.solver.unshot_atlas();
-        self.unshot.upload_f32(unshot);
+        self.unshot.upload_f32(&unshot);
         let max = unshot
             .chunks_exact(4)
             .filter(|t| t[3] > 0.0)

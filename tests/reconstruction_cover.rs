@@ -1,0 +1,59 @@
+//! The reconstruction pass draws the receivers as squares of whole 4×4 blocks over an atlas
+//! without gutters; what it computes must not depend on how the squares are drawn (points, or
+//! triangle pairs where an implementation's points are too small) nor on where the lightmaps
+//! lie in the atlas.
+
+mod common;
+
+use common::*;
+use gpu_radiosity::patches::{PatchLayout, Resolution};
+use gpu_radiosity::solver::GpuSolver;
+
+#[test]
+fn squares_drawn_as_points_or_triangles_give_the_same_lightmaps() {
+    let scene = load("simple");
+    let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
+    let ctx = context();
+    let options = gpu_radiosity::cli::bench::bench_options(0.01);
+    let mut points = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
+    let mut triangles = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
+    assert!(
+        points.reconstruction.squares_as_points,
+        "llvmpipe draws wide points"
+    );
+    triangles.reconstruction.squares_as_points = false;
+    for _ in 0..40 {
+        let a = points.step().unwrap().unwrap();
+        let b = triangles.step().unwrap().unwrap();
+        assert_eq!(a.shooter, b.shooter);
+    }
+    let (a, b) = (points.radiosity_atlas(), triangles.radiosity_atlas());
+    assert!(a.iter().any(|&v| v > 0.0));
+    assert!(a == b, "the two covers computed different radiance");
+    assert_eq!(points.unshot_atlas(), triangles.unshot_atlas());
+}
+
+#[test]
+fn atlases_come_back_in_the_callers_layout() {
+    // The solver packs the lightmaps without gutters; what it hands out is in the layout it was
+    // given: every patch texel carries its polygon's ID + 1, every other texel is zero.
+    let scene = load("simple");
+    let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
+    let dense = layout.without_gutters();
+    assert!(dense.atlas_width * dense.atlas_height < layout.atlas_width * layout.atlas_height);
+    assert_eq!(dense.patch_count(), layout.patch_count());
+    let ctx = context();
+    let mut solver = GpuSolver::new(
+        &ctx,
+        &scene,
+        &layout,
+        gpu_radiosity::cli::bench::bench_options(0.01),
+    )
+    .unwrap();
+    solver.step().unwrap().unwrap();
+    let atlas = solver.radiosity_atlas();
+    assert_eq!(atlas.len(), layout.owner.len() * 4);
+    for (texel, &owner) in atlas.chunks_exact(4).zip(&layout.owner) {
+        assert_eq!(texel[3], owner as f32);
+    }
+}
