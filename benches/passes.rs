@@ -24,7 +24,8 @@ fn passes(c: &mut Criterion) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/simple/simple.obj");
     let scene = load_obj(&path).expect("the simple room loads");
     let size = scene.patch_size.expect("the room sets its patch size");
-    let layout = PatchLayout::new(&scene, Resolution::PatchSize(size));
+    // The layout the GPU solver works in (no gutters), so that the pieces run as in a solve.
+    let layout = PatchLayout::new(&scene, Resolution::PatchSize(size)).without_gutters();
     let options = bench_options(0.01);
     let ctx = GlContext::headless(BackendChoice::Auto).expect("a GL 3.0 context");
     let finish = || unsafe { ctx.gl.finish() };
@@ -34,18 +35,21 @@ fn passes(c: &mut Criterion) {
     let shooters = solver.shooters_of(solver.next_polygon().unwrap());
     let shooter = &shooters[0];
 
-    let geometry = mesh::upload_scene(
+    let (w, h) = (layout.atlas_width as i32, layout.atlas_height as i32);
+    let mut visibility =
+        VisibilityPass::new(&ctx, options.visibility, options.hemi_res, &scene).unwrap();
+    // As the solver draws it: coplanar neighbours as plates (hemicube, robust test).
+    let plates = mesh::plate_data(&scene, &layout, visibility.merge_plates(&scene));
+    let geometry = mesh::upload_scene(&ctx.gl, &plates, scene.polygons.len()).unwrap();
+    let patches = mesh::upload_scene(
         &ctx.gl,
         &mesh::vertex_data(&scene, &layout),
         scene.polygons.len(),
     )
     .unwrap();
-    let (w, h) = (layout.atlas_width as i32, layout.atlas_height as i32);
-    let mut visibility =
-        VisibilityPass::new(&ctx, options.visibility, options.hemi_res, &scene).unwrap();
     let mut reconstruction = ReconstructionPass::new(&ctx, &scene, &layout).unwrap();
     let lightmaps = Lightmaps::new(&ctx, w, h).unwrap();
-    reconstruction.emit(&ctx, &geometry.mesh).unwrap();
+    reconstruction.emit(&ctx, &patches.mesh).unwrap();
     reconstruction.copy_into(&ctx, &lightmaps).unwrap();
     finish();
 
