@@ -213,13 +213,13 @@ impl PatchLayout {
             atlas_height: packed.height,
             patch_size: self.patch_size,
             lightmaps: self.lightmaps.clone(),
-            owner: vec![0; packed.width as usize * packed.height as usize],
+            owner: Vec::new(),
             patches_per_polygon: self.patches_per_polygon.clone(),
         };
         for (l, &(x, y)) in dense.lightmaps.iter_mut().zip(&packed.positions) {
             (l.x, l.y) = (x, y);
         }
-        let mut owner = vec![0; dense.owner.len()];
+        let mut owner = vec![0; packed.width as usize * packed.height as usize];
         self.move_texels(&self.owner, 1, &dense, &mut owner);
         dense.owner = owner;
         dense

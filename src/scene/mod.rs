@@ -130,6 +130,25 @@ pub struct Scene {
     pub skipped_degenerate: usize,
 }
 
+/// A scene of `polygons` with one grey material and nothing else (unit tests of the scene
+/// analyses).
+#[cfg(test)]
+pub(crate) fn test_scene(polygons: Vec<Polygon>) -> Scene {
+    Scene {
+        name: "t".into(),
+        polygons,
+        materials: vec![Material {
+            name: "m".into(),
+            kd: Vec3::splat(0.5),
+            ke: Vec3::ZERO,
+        }],
+        vertex_count: 0,
+        camera: None,
+        patch_size: None,
+        skipped_degenerate: 0,
+    }
+}
+
 impl Scene {
     pub fn material(&self, polygon: &Polygon) -> &Material {
         &self.materials[polygon.material]

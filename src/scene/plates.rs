@@ -150,28 +150,13 @@ fn drop_straight_corners(mut v: Vec<Vec3>, normal: Vec3, slack: f32) -> Vec<Vec3
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Material, Polygon};
+    use crate::scene::test_scene as scene;
+    use crate::scene::Polygon;
 
     fn tile(x0: f32, z0: f32, x1: f32, z1: f32) -> Polygon {
         // Facing +y: counter-clockwise seen from above.
         let v = [[x0, 0., z0], [x0, 0., z1], [x1, 0., z1], [x1, 0., z0]];
         Polygon::new(v.map(Vec3::from_array).to_vec(), 0, "floor".into()).unwrap()
-    }
-
-    fn scene(polygons: Vec<Polygon>) -> Scene {
-        Scene {
-            name: "t".into(),
-            polygons,
-            materials: vec![Material {
-                name: "m".into(),
-                kd: Vec3::splat(0.5),
-                ke: Vec3::ZERO,
-            }],
-            vertex_count: 0,
-            camera: None,
-            patch_size: None,
-            skipped_degenerate: 0,
-        }
     }
 
     #[test]

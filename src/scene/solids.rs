@@ -158,7 +158,8 @@ fn covers(scene: &Scene, p: usize, open: &[Vec3], inside: Vec3, slack: f32) -> b
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Material, Polygon};
+    use crate::scene::test_scene as scene;
+    use crate::scene::Polygon;
 
     fn quad(v: [[f32; 3]; 4], object: &str) -> Polygon {
         Polygon::new(v.map(Vec3::from_array).to_vec(), 0, object.into()).unwrap()
@@ -196,22 +197,6 @@ mod tests {
             ));
         }
         faces
-    }
-
-    fn scene(polygons: Vec<Polygon>) -> Scene {
-        Scene {
-            name: "t".into(),
-            polygons,
-            materials: vec![Material {
-                name: "m".into(),
-                kd: Vec3::splat(0.5),
-                ke: Vec3::ZERO,
-            }],
-            vertex_count: 0,
-            camera: None,
-            patch_size: None,
-            skipped_degenerate: 0,
-        }
     }
 
     #[test]

@@ -59,20 +59,24 @@ fn push_polygon(
     i: usize,
     outline: &[Vec3],
 ) {
-    let p = &scene.polygons[i];
-    let m = scene.material(p);
-    for tri in triangulate(outline, p.normal) {
+    let normal = scene.polygons[i].normal;
+    for tri in triangulate(outline, normal) {
         for &k in &tri {
-            let v = outline[k];
-            let uv = layout.atlas_uv(i, v);
-            data.extend_from_slice(&v.to_array());
-            data.extend_from_slice(&p.normal.to_array());
-            data.extend_from_slice(&uv.to_array());
-            data.push(i as f32);
-            data.extend_from_slice(&m.kd.to_array());
-            data.extend_from_slice(&m.ke.to_array());
+            push_vertex(data, scene, layout, i, outline[k]);
         }
     }
+}
+
+/// One vertex of polygon `i` at `v`: position, normal, atlas coordinates, ID, Kd, Ke.
+fn push_vertex(data: &mut Vec<f32>, scene: &Scene, layout: &PatchLayout, i: usize, v: Vec3) {
+    let p = &scene.polygons[i];
+    let m = scene.material(p);
+    data.extend_from_slice(&v.to_array());
+    data.extend_from_slice(&p.normal.to_array());
+    data.extend_from_slice(&layout.atlas_uv(i, v).to_array());
+    data.push(i as f32);
+    data.extend_from_slice(&m.kd.to_array());
+    data.extend_from_slice(&m.ke.to_array());
 }
 
 /// The scene for the visibility pass, with every triangle cut into a grid of sub-triangles
@@ -83,7 +87,6 @@ fn push_polygon(
 pub fn tessellated_data(scene: &Scene, layout: &PatchLayout, max_edge: f32) -> Vec<f32> {
     let mut data = Vec::new();
     for (i, p) in scene.polygons.iter().enumerate() {
-        let m = scene.material(p);
         for tri in triangulate(&p.vertices, p.normal) {
             let [a, b, c] = tri.map(|k| p.vertices[k]);
             let longest = (b - a).length().max((c - b).length()).max((a - c).length());
@@ -92,15 +95,7 @@ pub fn tessellated_data(scene: &Scene, layout: &PatchLayout, max_edge: f32) -> V
             let at = |r: usize, s: usize| {
                 a + (b - a) * (r as f32 / n as f32) + (c - a) * (s as f32 / n as f32)
             };
-            let mut push = |v: glam::Vec3| {
-                let uv = layout.atlas_uv(i, v);
-                data.extend_from_slice(&v.to_array());
-                data.extend_from_slice(&p.normal.to_array());
-                data.extend_from_slice(&uv.to_array());
-                data.push(i as f32);
-                data.extend_from_slice(&m.kd.to_array());
-                data.extend_from_slice(&m.ke.to_array());
-            };
+            let mut push = |v: Vec3| push_vertex(&mut data, scene, layout, i, v);
             for r in 0..n {
                 for s in 0..n - r {
                     push(at(r, s));

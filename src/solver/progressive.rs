@@ -205,9 +205,8 @@ impl<'a> GpuSolver<'a> {
         self.totals.find_max_energy(0.0)
     }
 
-    /// The shooters that carry polygon `p`'s unshot energy (see `shooters::shooters_of`).
-    /// Polygon `p`'s shooters, their texels in the caller's layout (as a `CpuSolver` on that
-    /// layout takes them).
+    /// The shooters that carry polygon `p`'s unshot energy (see `shooters::shooters_of`), their
+    /// texels in the caller's layout (as a `CpuSolver` on that layout takes them).
     pub fn shooters_of(&self, p: usize) -> Vec<Shooter> {
         let mut shooters = shooters::shooters_of(
             self.scene,

@@ -83,8 +83,8 @@ pub struct ReconstructionPass {
     patches: PatchData,
     /// The squares a pass draws (rebuilt every pass): points (centre, side) or two triangles
     /// each (corner, 0).
-    rects: Mesh,
-    corners: Vec<f32>,
+    squares: Mesh,
+    square_vertices: Vec<f32>,
     /// Which 4×4 blocks of the atlas hold a receiver this pass, row by row.
     blocks: Vec<bool>,
     blocks_wide: usize,
@@ -97,8 +97,8 @@ pub struct ReconstructionPass {
     /// centre lies inside it (a point whose centre is clipped away draws nothing); the scissor
     /// keeps fragments inside the atlas.
     viewport: (i32, i32),
-    /// Polygons in atlas order (shelf by shelf, left to right), without empty lightmaps.
-    atlas_order: Vec<usize>,
+    /// The polygons that have patches (the others have no lightmap texels to draw).
+    with_patches: Vec<usize>,
     /// Lightmap rectangles [x0, y0, x1, y1), per polygon.
     texels: Vec<[u32; 4]>,
     /// The polygons the last pass drew (receivers and the shooter): the only ones whose unshot
@@ -132,11 +132,10 @@ impl ReconstructionPass {
             outputs,
         )?;
         let texels = layout.texel_rects();
-        let mut atlas_order: Vec<usize> = (0..texels.len())
+        let with_patches: Vec<usize> = (0..texels.len())
             .filter(|&p| layout.patches_per_polygon[p] > 0)
             .collect();
-        atlas_order.sort_by_key(|&p| (texels[p][1], texels[p][0]));
-        let rects = Mesh::new(
+        let squares = Mesh::new(
             gl,
             &[],
             3,
@@ -221,14 +220,14 @@ impl ReconstructionPass {
             plane_slack,
             emission,
             patches,
-            rects,
-            corners: Vec::new(),
+            squares,
+            square_vertices: Vec::new(),
             blocks,
             blocks_wide,
             largest_square,
             squares_as_points,
             viewport: (round_up(width), round_up(height)),
-            atlas_order,
+            with_patches,
             texels,
             touched: Vec::new(),
             outlines,
@@ -327,8 +326,8 @@ impl ReconstructionPass {
         self.touched.clear();
         self.blocks.fill(false);
         let bw = self.blocks_wide;
-        for k in 0..self.atlas_order.len() {
-            let p = self.atlas_order[k];
+        for k in 0..self.with_patches.len() {
+            let p = self.with_patches[k];
             if p != shooter.polygon && !self.can_receive(p, shooter) {
                 continue;
             }
@@ -340,7 +339,7 @@ impl ReconstructionPass {
                     .fill(true);
             }
         }
-        self.corners.clear();
+        self.square_vertices.clear();
         let size = self.viewport;
         let points = self.squares_as_points;
         cover(&self.blocks, bw, self.largest_square, |x, y, side| {
@@ -348,16 +347,17 @@ impl ReconstructionPass {
             if points {
                 // A point's centre; an even-sided point covers the pixels centred within side/2.
                 let (cx, cy) = (ndc(x * 2 + side, size.0 * 2), ndc(y * 2 + side, size.1 * 2));
-                self.corners.extend_from_slice(&[cx, cy, side as f32]);
+                self.square_vertices
+                    .extend_from_slice(&[cx, cy, side as f32]);
             } else {
                 let (x0, y0) = (ndc(x, size.0), ndc(y, size.1));
                 let (x1, y1) = (ndc(x + side, size.0), ndc(y + side, size.1));
                 for [u, v] in [[x0, y0], [x1, y0], [x1, y1], [x0, y0], [x1, y1], [x0, y1]] {
-                    self.corners.extend_from_slice(&[u, v, 0.0]);
+                    self.square_vertices.extend_from_slice(&[u, v, 0.0]);
                 }
             }
         });
-        self.rects.replace(&self.corners, 3);
+        self.squares.replace(&self.square_vertices, 3);
     }
 
     /// One reconstruction: ΔL for every patch from `shooter`, added to `radiosity` and `unshot`
@@ -421,10 +421,10 @@ impl ReconstructionPass {
             gl.scissor(0, 0, self.width, self.height);
             if self.squares_as_points {
                 gl.enable(glow::PROGRAM_POINT_SIZE);
-                self.rects.draw_points();
+                self.squares.draw_points();
                 gl.disable(glow::PROGRAM_POINT_SIZE);
             } else {
-                self.rects.draw();
+                self.squares.draw();
             }
             gl.disable(glow::SCISSOR_TEST);
             gl.active_texture(glow::TEXTURE0);
