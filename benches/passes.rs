@@ -65,7 +65,7 @@ fn passes(c: &mut Criterion) {
     group.bench_function("reconstruction pass", |b| {
         b.iter(|| {
             reconstruction
-                .run(&ctx, &visibility, &lightmaps, shooter, &options)
+                .run(&ctx, &visibility, shooter, &options)
                 .unwrap();
             finish();
         })

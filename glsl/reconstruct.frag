@@ -1,9 +1,9 @@
 #version 130
 // Reconstruction pass, fragment stage (paper 3.2.2, codes 1 and 2). For this patch (fragment):
 // is it the polygon the shooter sees in this direction (item buffer ID test)? If so, the form
-// factor and the received radiance. The paper adds the result to the lightmaps (GL_ADD +
-// glCopyTexSubImage2D); here the addition is done in this shader and the host copies the sums
-// over the old textures.
+// factor and the received radiance ΔL, written to both attachments. Additive blending adds it to
+// what they hold (the paper's GL_ADD), and the host copies the sums into the lightmap textures
+// (glCopyTexSubImage2D).
 
 uniform sampler2D PatchPosition;   // per patch: world position, polygon ID + 1 (0: no patch)
 uniform sampler2D PatchNormal;
@@ -16,14 +16,11 @@ vec3 RecvColor = vec3(0.0);
 float RecvId = -1.0;
 
 uniform sampler2D HemiItemBuffer;  // visibility pass result (RGBA8 IDs)
-uniform sampler2D Radiosity;       // accumulated radiance per patch (alpha: ID + 1)
-uniform sampler2D Unshot;          // unshot radiance per patch (alpha: ID + 1)
 uniform mat4 ShooterView;
 uniform vec3 ShootPos;
 uniform vec3 ShootNormal;
 uniform vec3 ShootEnergy;          // unshot radiance x area of the shooter, RGB
 uniform float ShooterId;
-uniform vec4 ShooterTexels;        // [x0, y0, x1, y1) atlas texels whose unshot energy is shot
 
 uniform int FormFactorKind;        // 0: point (paper), 1: polygon (exact, finite)
 uniform vec3 ShootCorners[12];     // the shooter's outline, counter-clockwise from its front
@@ -106,6 +103,14 @@ float EdgeTerm(vec3 a, vec3 b)
     return atan(len, dot(a, b)) * dot(c, RecvNormal) / max(len, 1e-30);
 }
 
+// SHOOTER_ABOVE (set by the host per draw): every receiver drawn has the whole shooter above its
+// tangent plane, so nothing needs clipping. llvmpipe runs both sides of every branch, even one on
+// a uniform, so the host compiles this file twice and draws the blocks that need no clipping with
+// the cheaper variant. Both give the same bits where nothing is clipped.
+#ifndef SHOOTER_ABOVE
+#define SHOOTER_ABOVE 0
+#endif
+
 // The exact factor from this fragment (a differential area) to the shooter's outline, clipped
 // to the fragment's side of its tangent plane (Lambert's contour integral). The convex outline
 // leaves that side at most once and comes back at most once: the clipped outline is its edges
@@ -118,8 +123,15 @@ float PolygonFormFactor()
     if (dot(ShootNormal, RecvPos - ShootCorners[0]) <= 0.0)
         return 0.0;
     vec3 a = ShootCorners[ShootCornerCount - 1] - RecvPos;
-    float da = dot(a, RecvNormal);
     float sum = 0.0;
+#if SHOOTER_ABOVE
+    for (int k = 0; k < ShootCornerCount; ++k) {
+        vec3 b = ShootCorners[k] - RecvPos;
+        sum += EdgeTerm(a, b);
+        a = b;
+    }
+#else
+    float da = dot(a, RecvNormal);
     vec3 exit_point = vec3(0.0);   // both stay zero when nothing is clipped: a null closing edge
     vec3 entry_point = vec3(0.0);
     for (int k = 0; k < ShootCornerCount; ++k) {
@@ -136,6 +148,7 @@ float PolygonFormFactor()
         da = db;
     }
     sum += EdgeTerm(exit_point, entry_point);
+#endif
     return min(abs(sum) / (2.0 * pi), 1.0);
 }
 
@@ -156,37 +169,23 @@ vec3 FormFactorEnergy()
     return ShootEnergy * RecvColor * max(F, 0.0);
 }
 
-// Every texel that would keep its value is discarded: the renderbuffers are never cleared after
-// initialisation, so they hold what the last copy put into the textures. Discarding early (not a
-// patch; hidden from the shooter; receiving nothing) lets llvmpipe skip the rest of the shader
-// for a block of fragments that are all discarded: the form factor is computed only for
-// receivers the shooter sees.
+// ΔL, added to the old values by blending (alpha, the ID, is kept). Every texel that would add
+// nothing is discarded (not a patch; the shooter, which sends nothing to itself and whose unshot
+// energy the host clears; hidden from the shooter; receiving nothing). llvmpipe still shades
+// the whole block: the discards keep the sums exact, they save no time.
 void main()
 {
     ivec2 texel = ivec2(gl_FragCoord.xy);
     vec4 position = texelFetch(PatchPosition, texel, 0);
-    if (position.w == 0.0)
-        discard;  // not a patch: the attachments keep their cleared zero
     RecvPos = position.xyz;
     RecvId = position.w - 1.0;
-    if (RecvId == ShooterId) {
-        // A planar shooter sends nothing to itself. The texels it shot from have shot their
-        // unshot energy: clear it (paper: "清零").
-        bool shot = all(greaterThanEqual(gl_FragCoord.xy, ShooterTexels.xy))
-            && all(lessThan(gl_FragCoord.xy, ShooterTexels.zw));
-        if (!shot)
-            discard;
-        NewRadiosity = texelFetch(Radiosity, texel, 0);
-        NewUnshot = vec4(0.0, 0.0, 0.0, RecvId + 1.0);
-        return;
-    }
-    if (!Visible())
+    if (position.w == 0.0 || RecvId == ShooterId || !Visible())
         discard;
     RecvNormal = texelFetch(PatchNormal, texel, 0).xyz;
     RecvColor = texelFetch(PatchReflectance, texel, 0).rgb;
     vec3 delta = FormFactorEnergy();
     if (all(equal(delta, vec3(0.0))))
         discard;
-    NewRadiosity = vec4(texelFetch(Radiosity, texel, 0).rgb + delta, RecvId + 1.0);
-    NewUnshot = vec4(texelFetch(Unshot, texel, 0).rgb + delta, RecvId + 1.0);
+    NewRadiosity = vec4(delta, 0.0);
+    NewUnshot = NewRadiosity;
 }

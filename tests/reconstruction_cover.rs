@@ -57,3 +57,51 @@ fn atlases_come_back_in_the_callers_layout() {
         assert_eq!(texel[3], owner as f32);
     }
 }
+
+#[test]
+fn skipping_needless_clipping_changes_nothing_but_float_noise() {
+    // Blocks whose receivers all have the whole shooter above their plane are drawn with the
+    // shader variant that does not clip it: the same contour integral, so the same lightmaps up
+    // to float rounding. The Cornell box with its default options (shooter cells) and the
+    // simple room with the bench's.
+    for (name, options) in [
+        ("cornell", gpu_radiosity::solver::SolveOptions::default()),
+        ("simple", gpu_radiosity::cli::bench::bench_options(0.01)),
+    ] {
+        let scene = load(name);
+        let resolution = scene
+            .patch_size
+            .map_or(Resolution::Patches(4096), Resolution::PatchSize);
+        let layout = PatchLayout::new(&scene, resolution);
+        let ctx = context();
+        let mut split = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
+        let mut clipped = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
+        clipped.reconstruction.skip_needless_clipping = false;
+        let (mut cheap, mut full) = (0, 0);
+        for _ in 0..40 {
+            let a = split.step().unwrap().unwrap();
+            let b = clipped.step().unwrap().unwrap();
+            assert_eq!(a.shooter, b.shooter, "{name}");
+            let (c, u) = split.reconstruction.squares_drawn();
+            full += c;
+            cheap += u;
+            assert_eq!(clipped.reconstruction.squares_drawn().1, 0);
+        }
+        assert!(
+            cheap > 0 && full > 0,
+            "{name}: squares {full} clipped, {cheap} not"
+        );
+        let (a, b) = (split.radiosity_atlas(), clipped.radiosity_atlas());
+        let diff: f64 = a.iter().zip(&b).map(|(x, y)| (x - y).abs() as f64).sum();
+        let total: f64 = b.iter().map(|y| y.abs() as f64).sum();
+        eprintln!(
+            "{name}: {full} squares clipped, {cheap} not; L1 difference {:.2e}",
+            diff / total
+        );
+        assert!(
+            diff / total < 1e-6,
+            "{name}: L1 difference {}",
+            diff / total
+        );
+    }
+}

@@ -366,17 +366,21 @@ impl Mesh {
 
     /// Every vertex as a point (sized by the vertex shader: enable `PROGRAM_POINT_SIZE`).
     pub fn draw_points(&self) {
-        unsafe {
-            self.gl.bind_vertex_array(Some(self.vao));
-            self.gl.draw_arrays(glow::POINTS, 0, self.vertex_count);
-            self.gl.bind_vertex_array(None);
-        }
+        self.draw_arrays(glow::POINTS, 0, self.vertex_count);
     }
 
     pub fn draw_range(&self, first: i32, count: i32) {
+        self.draw_arrays(glow::TRIANGLES, first, count);
+    }
+
+    /// Vertices `first..first + count` as `mode` primitives (`glow::POINTS`, `glow::TRIANGLES`).
+    pub fn draw_arrays(&self, mode: u32, first: i32, count: i32) {
+        if count == 0 {
+            return;
+        }
         unsafe {
             self.gl.bind_vertex_array(Some(self.vao));
-            self.gl.draw_arrays(glow::TRIANGLES, first, count);
+            self.gl.draw_arrays(mode, first, count);
             self.gl.bind_vertex_array(None);
         }
     }

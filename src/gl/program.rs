@@ -11,7 +11,21 @@ use std::collections::HashMap;
 /// A shader stage's source and the file it came from (for error messages).
 pub struct Source {
     pub file: &'static str,
-    pub text: &'static str,
+    pub text: std::borrow::Cow<'static, str>,
+}
+
+impl Source {
+    /// The same source with `#define name value` after its `#version` line (a compile-time
+    /// variant: llvmpipe runs both sides of a branch, even on a uniform). `#line` keeps the
+    /// compiler's line numbers those of the file.
+    pub fn define(self, name: &str, value: i32) -> Source {
+        let (version, rest) = self.text.split_once('\n').unwrap_or((&self.text, ""));
+        let text = format!("{version}\n#define {name} {value}\n#line 2\n{rest}");
+        Source {
+            file: self.file,
+            text: text.into(),
+        }
+    }
 }
 
 /// Embed a file of `glsl/` at build time.
@@ -20,7 +34,11 @@ macro_rules! glsl {
     ($name:literal) => {
         $crate::gl::program::Source {
             file: concat!("glsl/", $name),
-            text: include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/glsl/", $name)),
+            text: std::borrow::Cow::Borrowed(include_str!(concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/glsl/",
+                $name
+            ))),
         }
     };
 }
@@ -47,7 +65,7 @@ impl Program {
                 (glow::FRAGMENT_SHADER, &fragment),
             ] {
                 let shader = gl.create_shader(stage).map_err(GlError::Limit)?;
-                gl.shader_source(shader, src.text);
+                gl.shader_source(shader, &src.text);
                 gl.compile_shader(shader);
                 if !gl.get_shader_compile_status(shader) {
                     let log = gl.get_shader_info_log(shader);

@@ -262,13 +262,8 @@ impl<'a> GpuSolver<'a> {
             let t = Instant::now();
             self.visibility.run(ctx, &self.visibility_mesh, shooter)?;
             let t1 = Instant::now();
-            self.reconstruction.run(
-                ctx,
-                &self.visibility,
-                &self.lightmaps,
-                shooter,
-                &self.options,
-            )?;
+            self.reconstruction
+                .run(ctx, &self.visibility, shooter, &self.options)?;
             let t2 = Instant::now();
             self.changed.extend_from_slice(&self.reconstruction.touched);
             self.reconstruction.copy_into(ctx, &self.lightmaps)?;

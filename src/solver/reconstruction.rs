@@ -10,18 +10,22 @@
 //! skip nothing), so the cost of a pass is the number of blocks drawn: the solver's atlas has no
 //! gutters (`PatchLayout::without_gutters`) and each block is drawn once. Only receivers that can
 //! get anything are covered: some of the polygon in front of the shooter and some of the shooter
-//! in front of the polygon (the rest would add exactly zero, and do where a square reaches them),
-//! plus the shooter, whose unshot energy is cleared. The renderbuffers are never cleared after
-//! initialisation, so the texels not drawn keep what the last copy put into the textures: each
-//! copy still moves a whole, current atlas.
+//! in front of the polygon (the rest would add exactly zero, and do where a square reaches them).
+//! The blocks whose polygons all have the whole shooter above their plane are drawn with a
+//! variant of the shader that does not clip it (`SHOOTER_ABOVE`), the rest with the full one.
+//! The renderbuffers are never cleared after initialisation, so the texels not drawn keep what
+//! the last copy put into the textures: each copy still moves a whole, current atlas.
 //!
-//! Two attachments: 0 = radiosity + ΔL, 1 = unshot + ΔL (the shooter's own unshot cleared).
-//! The paper adds with GL_ADD while copying; a copy cannot add, so the shader adds the old value
-//! it reads from the texture, and the copy replaces the texture with the sum: same result.
+//! Two attachments: 0 = radiosity + ΔL, 1 = unshot + ΔL (the shooter's own unshot cleared
+//! afterwards by a scissored, alpha-masked clear). The paper adds with GL_ADD; here additive
+//! blending adds ΔL to the renderbuffers, which hold the current lightmaps (they are never
+//! cleared, and each copy makes the textures equal to them), and the copies carry the sums into
+//! the lightmap textures. Blending instead of reading the old values as textures: the same float
+//! additions without two texel fetches per fragment.
 
 use super::mesh::ATTRIBUTES;
 use super::visibility::VisibilityPass;
-use super::{FormFactorKind, Shooter, SolveOptions, VisibilityKind};
+use super::{FormFactorKind, Shooter, SolveOptions, VisibilityKind, MAX_CORNERS};
 use crate::gl::objects::Attribute;
 use crate::gl::{
     Framebuffer, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
@@ -37,7 +41,7 @@ pub const INIT_NAME: &str = "initialisation";
 pub const COPY_NAME: &str = "accumulation";
 
 /// The two lightmap atlases of section 3.1: accumulated and unshot radiance (RGBA32F, alpha =
-/// polygon ID + 1), which the reconstruction pass reads and its copies replace.
+/// polygon ID + 1), which the copies after each reconstruction pass replace.
 pub struct Lightmaps {
     pub radiosity: Texture,
     pub unshot: Texture,
@@ -71,7 +75,11 @@ struct PatchData {
 }
 
 pub struct ReconstructionPass {
+    /// The shader, clipping the shooter to each receiver's tangent plane.
     program: Program,
+    /// The same, compiled for receivers that have the whole shooter above that plane (no
+    /// clipping: about an eighth of the pass cheaper on llvmpipe; see `glsl/reconstruct.frag`).
+    above: Program,
     /// Each polygon's plane (unit normal n, n·x of its points), texel ID at (ID % width, ID /
     /// width): the robust visibility test asks whether the polygon a pixel shows lies between
     /// the shooter and the receiver.
@@ -85,8 +93,17 @@ pub struct ReconstructionPass {
     /// each (corner, 0).
     squares: Mesh,
     square_vertices: Vec<f32>,
-    /// Which 4×4 blocks of the atlas hold a receiver this pass, row by row.
+    /// Which 4×4 blocks of the atlas hold a receiver this pass, row by row: one that needs the
+    /// shooter clipped (`blocks`), or only ones that have it wholly above (`blocks_above`).
     blocks: Vec<bool>,
+    blocks_above: Vec<bool>,
+    /// Per block, which kinds of polygon have texels in it this pass (`CLIPPED`, ...).
+    block_flags: Vec<u8>,
+    /// How many of `square_vertices` draw `blocks` (the rest draw `blocks_above`).
+    clipped_vertices: i32,
+    /// Draw the blocks whose receivers all have the shooter above them with the variant that
+    /// does not clip (on by default; off to compare).
+    pub skip_needless_clipping: bool,
     blocks_wide: usize,
     /// Largest square side drawn, texels (a power of two, at least `BLOCK`).
     largest_square: u32,
@@ -124,11 +141,19 @@ impl ReconstructionPass {
         let (lo, hi) = scene.bounds();
         let plane_slack = 1e-5 * (hi - lo).length();
         let outputs = &[(0, "NewRadiosity"), (1, "NewUnshot")];
+        let squares_in = &[(0, "Corner"), (1, "Size")];
         let program = Program::new(
             gl,
             glsl!("atlas.vert"),
             glsl!("reconstruct.frag"),
-            &[(0, "Corner"), (1, "Size")],
+            squares_in,
+            outputs,
+        )?;
+        let above = Program::new(
+            gl,
+            glsl!("atlas.vert"),
+            glsl!("reconstruct.frag").define("SHOOTER_ABOVE", 1),
+            squares_in,
             outputs,
         )?;
         let texels = layout.texel_rects();
@@ -216,13 +241,18 @@ impl ReconstructionPass {
         ctx.check(NAME)?;
         Ok(ReconstructionPass {
             program,
+            above,
             planes,
             plane_slack,
             emission,
             patches,
             squares,
             square_vertices: Vec::new(),
+            blocks_above: blocks.clone(),
+            block_flags: vec![0; blocks.len()],
             blocks,
+            clipped_vertices: 0,
+            skip_needless_clipping: true,
             blocks_wide,
             largest_square,
             squares_as_points,
@@ -279,9 +309,10 @@ impl ReconstructionPass {
         }
     }
 
-    /// Can polygon `p` receive anything from `shooter`? Some of it must lie in front of the
-    /// shooter and some of the shooter in front of it (with float slack: never wrongly no).
-    fn can_receive(&self, p: usize, shooter: &Shooter) -> bool {
+    /// Can polygon `p` receive anything from `shooter`, and is the whole shooter above `p`'s
+    /// plane? Some of `p` must lie in front of the shooter and some of the shooter in front of
+    /// `p` (with float slack: never wrongly no; and never wrongly "wholly above").
+    fn reception(&self, p: usize, shooter: &Shooter) -> Reception {
         let outline = &self.outlines[self.starts[p]..self.starts[p + 1]];
         let slack = self.plane_slack;
         let base = shooter.corners[0];
@@ -289,11 +320,20 @@ impl ReconstructionPass {
             .iter()
             .any(|&v| shooter.normal.dot(v - base) > -slack);
         let n = self.normals[p];
-        let sees = shooter.corners[..shooter.corner_count.max(1)]
+        let heights = shooter.corners[..shooter.corner_count.max(1)]
             .iter()
             .chain(std::iter::once(&shooter.position))
-            .any(|&c| n.dot(c - outline[0]) > -slack);
-        in_front && sees
+            .map(|&c| n.dot(c - outline[0]));
+        let (lowest, highest) = heights.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), h| {
+            (lo.min(h), hi.max(h))
+        });
+        if !(in_front && highest > -slack) {
+            Reception::Nothing
+        } else if shooter.corner_count > 0 && lowest > slack {
+            Reception::ShooterAbove
+        } else {
+            Reception::Clipped
+        }
     }
 
     /// Rasterise every patch's geometry into the patch textures, then write each patch's emitted
@@ -324,112 +364,156 @@ impl ReconstructionPass {
     /// the shooter's), covered by aligned squares of whole 4×4 blocks (`cover`).
     fn select_receivers(&mut self, shooter: &Shooter) {
         self.touched.clear();
-        self.blocks.fill(false);
+        self.block_flags.fill(0);
         let bw = self.blocks_wide;
         for k in 0..self.with_patches.len() {
             let p = self.with_patches[k];
-            if p != shooter.polygon && !self.can_receive(p, shooter) {
+            // The shooter sends nothing to itself: it is not drawn, but its unshot energy is
+            // cleared. Its texels are discarded wherever a block shared with a receiver is drawn.
+            if p == shooter.polygon {
+                self.touched.push(p);
                 continue;
             }
-            self.touched.push(p);
+            let flag = match self.reception(p, shooter) {
+                Reception::Nothing => NOT_RECEIVING,
+                Reception::ShooterAbove => SHOOTER_ABOVE,
+                Reception::Clipped => CLIPPED,
+            };
+            if flag != NOT_RECEIVING {
+                self.touched.push(p);
+            }
             let [x0, y0, x1, y1] = self.texels[p];
             for by in y0 / BLOCK..y1.div_ceil(BLOCK) {
                 let row = by as usize * bw;
-                self.blocks[row + (x0 / BLOCK) as usize..row + x1.div_ceil(BLOCK) as usize]
-                    .fill(true);
-            }
-        }
-        self.square_vertices.clear();
-        let size = self.viewport;
-        let points = self.squares_as_points;
-        cover(&self.blocks, bw, self.largest_square, |x, y, side| {
-            let ndc = |t: u32, extent: i32| t as f32 / extent as f32 * 2.0 - 1.0;
-            if points {
-                // A point's centre; an even-sided point covers the pixels centred within side/2.
-                let (cx, cy) = (ndc(x * 2 + side, size.0 * 2), ndc(y * 2 + side, size.1 * 2));
-                self.square_vertices
-                    .extend_from_slice(&[cx, cy, side as f32]);
-            } else {
-                let (x0, y0) = (ndc(x, size.0), ndc(y, size.1));
-                let (x1, y1) = (ndc(x + side, size.0), ndc(y + side, size.1));
-                for [u, v] in [[x0, y0], [x1, y0], [x1, y1], [x0, y0], [x1, y1], [x0, y1]] {
-                    self.square_vertices.extend_from_slice(&[u, v, 0.0]);
+                for f in &mut self.block_flags
+                    [row + (x0 / BLOCK) as usize..row + x1.div_ceil(BLOCK) as usize]
+                {
+                    *f |= flag;
                 }
             }
+        }
+        // Only blocks that hold receivers are drawn; without clipping only where every polygon
+        // in the block has the shooter above it (a polygon that receives nothing must get its
+        // exact zero from the clipped factor).
+        for ((&f, clipped), above) in self
+            .block_flags
+            .iter()
+            .zip(&mut self.blocks)
+            .zip(&mut self.blocks_above)
+        {
+            *above = f == SHOOTER_ABOVE && self.skip_needless_clipping;
+            *clipped = f & (SHOOTER_ABOVE | CLIPPED) != 0 && !*above;
+        }
+        self.square_vertices.clear();
+        let (size, points) = (self.viewport, self.squares_as_points);
+        let vertices = &mut self.square_vertices;
+        cover(&self.blocks, bw, self.largest_square, |x, y, side| {
+            push_square(vertices, points, size, x, y, side)
+        });
+        self.clipped_vertices = vertices.len() as i32 / 3;
+        cover(&self.blocks_above, bw, self.largest_square, |x, y, side| {
+            push_square(vertices, points, size, x, y, side)
         });
         self.squares.replace(&self.square_vertices, 3);
     }
 
-    /// One reconstruction: ΔL for every patch from `shooter`, added to `radiosity` and `unshot`
-    /// (read as textures) into the two renderbuffers.
+    /// One reconstruction: ΔL for every patch from `shooter`, added into the two renderbuffers
+    /// (radiosity and unshot), the shooter's unshot energy cleared.
     pub fn run(
         &mut self,
         ctx: &GlContext,
         visibility: &VisibilityPass,
-        lightmaps: &Lightmaps,
         shooter: &Shooter,
         options: &SolveOptions,
     ) -> Result<(), GlError> {
         self.select_receivers(shooter);
         self.begin(ctx, false);
-        self.program.use_program();
         visibility.item_buffer.bind(0);
         self.planes.bind(3);
-        lightmaps.radiosity.bind(1);
-        lightmaps.unshot.bind(2);
         self.patches.position.bind(4);
         self.patches.normal.bind(5);
         self.patches.reflectance.bind(6);
-        self.program.set_i32("PatchPosition", 4);
-        self.program.set_i32("PatchNormal", 5);
-        self.program.set_i32("PatchReflectance", 6);
-        self.program.set_i32("HemiItemBuffer", 0);
-        self.program.set_i32("Radiosity", 1);
-        self.program.set_i32("Unshot", 2);
-        self.program
-            .set_mat4("ShooterView", &shooter.view().to_cols_array());
-        self.program
-            .set_vec3("ShootPos", shooter.position.to_array());
-        self.program
-            .set_vec3("ShootNormal", shooter.normal.to_array());
-        self.program
-            .set_vec3("ShootEnergy", shooter.energy.to_array());
-        self.program.set_f32("ShooterId", shooter.polygon as f32);
-        self.program
-            .set_vec4("ShooterTexels", shooter.texels.map(|v| v as f32));
-        let p = &self.program;
-        p.set_i32(
-            "FormFactorKind",
-            (options.form_factor == FormFactorKind::Polygon) as i32,
-        );
-        let corners: Vec<f32> = shooter.corners.iter().flat_map(|c| c.to_array()).collect();
-        p.set_vec3_array("ShootCorners", &corners);
-        p.set_i32("ShootCornerCount", shooter.corner_count as i32);
-        p.set_f32("ShootArea", shooter.area);
-        p.set_i32(
-            "HemiCube",
-            (options.visibility == VisibilityKind::Hemicube) as i32,
-        );
-        p.set_i32("Robust", options.robust_visibility as i32);
-        p.set_i32("PolygonPlanes", 3);
-        p.set_i32("PlanesWidth", self.planes.width);
-        p.set_f32("PlaneSlack", self.plane_slack);
+        let gl = &ctx.gl;
         unsafe {
-            let gl = &ctx.gl;
             gl.viewport(0, 0, self.viewport.0, self.viewport.1);
             gl.enable(glow::SCISSOR_TEST);
             gl.scissor(0, 0, self.width, self.height);
+            // ΔL added to both attachments; their alpha (the ID) kept.
+            gl.enable(glow::BLEND);
+            gl.blend_equation(glow::FUNC_ADD);
+            gl.blend_func_separate(glow::ONE, glow::ONE, glow::ZERO, glow::ONE);
             if self.squares_as_points {
                 gl.enable(glow::PROGRAM_POINT_SIZE);
-                self.squares.draw_points();
-                gl.disable(glow::PROGRAM_POINT_SIZE);
-            } else {
-                self.squares.draw();
             }
+        }
+        let mut corners = [0.0f32; 3 * MAX_CORNERS];
+        for (c, v) in corners.chunks_exact_mut(3).zip(&shooter.corners) {
+            c.copy_from_slice(&v.to_array());
+        }
+        let total = self.squares.vertex_count;
+        let split = self.clipped_vertices;
+        for (p, first, count) in [
+            (&self.program, 0, split),
+            (&self.above, split, total - split),
+        ] {
+            if count == 0 {
+                continue;
+            }
+            p.use_program();
+            p.set_i32("PatchPosition", 4);
+            p.set_i32("PatchNormal", 5);
+            p.set_i32("PatchReflectance", 6);
+            p.set_i32("HemiItemBuffer", 0);
+            p.set_mat4("ShooterView", &shooter.view().to_cols_array());
+            p.set_vec3("ShootPos", shooter.position.to_array());
+            p.set_vec3("ShootNormal", shooter.normal.to_array());
+            p.set_vec3("ShootEnergy", shooter.energy.to_array());
+            p.set_f32("ShooterId", shooter.polygon as f32);
+            p.set_i32(
+                "FormFactorKind",
+                (options.form_factor == FormFactorKind::Polygon) as i32,
+            );
+            p.set_vec3_array("ShootCorners", &corners);
+            p.set_i32("ShootCornerCount", shooter.corner_count as i32);
+            p.set_f32("ShootArea", shooter.area);
+            p.set_i32(
+                "HemiCube",
+                (options.visibility == VisibilityKind::Hemicube) as i32,
+            );
+            p.set_i32("Robust", options.robust_visibility as i32);
+            p.set_i32("PolygonPlanes", 3);
+            p.set_i32("PlanesWidth", self.planes.width);
+            p.set_f32("PlaneSlack", self.plane_slack);
+            let mode = if self.squares_as_points {
+                glow::POINTS
+            } else {
+                glow::TRIANGLES
+            };
+            self.squares.draw_arrays(mode, first, count);
+        }
+        unsafe {
+            gl.disable(glow::PROGRAM_POINT_SIZE);
+            gl.disable(glow::BLEND);
+            // The shooter's texels have shot: clear their unshot energy (paper: "清零"), RGB
+            // only (alpha is the ID; the texels that are no patch hold zero already).
+            let [x0, y0, x1, y1] = shooter.texels.map(|v| v as i32);
+            gl.scissor(x0, y0, x1 - x0, y1 - y0);
+            gl.color_mask_draw_buffer(1, true, true, true, false);
+            gl.clear_buffer_f32_slice(glow::COLOR, 1, &[0.0; 4]);
+            gl.color_mask_draw_buffer(1, true, true, true, true);
             gl.disable(glow::SCISSOR_TEST);
             gl.active_texture(glow::TEXTURE0);
         }
         ctx.check(NAME)
+    }
+
+    /// The squares the last pass drew with the clipping shader and with the one that does not
+    /// clip.
+    pub fn squares_drawn(&self) -> (usize, usize) {
+        let per_square = if self.squares_as_points { 1 } else { 6 };
+        let clipped = self.clipped_vertices as usize / per_square;
+        let all = self.squares.vertex_count as usize / per_square;
+        (clipped, all - clipped)
     }
 
     /// Each polygon's lightmap rectangle [x0, y0, x1, y1) in the atlas.
@@ -455,6 +539,37 @@ impl ReconstructionPass {
         }
         ctx.check(COPY_NAME)
     }
+}
+
+/// The vertices of square (`x`, `y`, `side`, texels) in a viewport of `size` texels: one point
+/// (centre, side) or two triangles (corner, 0).
+fn push_square(vertices: &mut Vec<f32>, points: bool, size: (i32, i32), x: u32, y: u32, side: u32) {
+    let ndc = |t: u32, extent: i32| t as f32 / extent as f32 * 2.0 - 1.0;
+    if points {
+        // A point's centre; an even-sided point covers the pixels centred within side/2.
+        let (cx, cy) = (ndc(x * 2 + side, size.0 * 2), ndc(y * 2 + side, size.1 * 2));
+        vertices.extend_from_slice(&[cx, cy, side as f32]);
+    } else {
+        let (x0, y0) = (ndc(x, size.0), ndc(y, size.1));
+        let (x1, y1) = (ndc(x + side, size.0), ndc(y + side, size.1));
+        for [u, v] in [[x0, y0], [x1, y0], [x1, y1], [x0, y0], [x1, y1], [x0, y1]] {
+            vertices.extend_from_slice(&[u, v, 0.0]);
+        }
+    }
+}
+
+/// Block flags: a polygon that receives with clipping, one that has the whole shooter above it,
+/// one that receives nothing.
+const CLIPPED: u8 = 1;
+const SHOOTER_ABOVE: u8 = 2;
+const NOT_RECEIVING: u8 = 4;
+
+/// What a receiver gets from a shooter (see `ReconstructionPass::reception`).
+enum Reception {
+    Nothing,
+    /// The whole shooter lies above the receiver's plane: no clipping needed.
+    ShooterAbove,
+    Clipped,
 }
 
 /// Squares are made of whole blocks of 4×4 texels: llvmpipe shades a block of 4×4 fragments at a
