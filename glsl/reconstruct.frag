@@ -103,10 +103,11 @@ float EdgeTerm(vec3 a, vec3 b)
     return atan(len, dot(a, b)) * dot(c, RecvNormal) / max(len, 1e-30);
 }
 
-// SHOOTER_ABOVE (set by the host per draw): every receiver drawn has the whole shooter above its
-// tangent plane, so nothing needs clipping. llvmpipe runs both sides of every branch, even one on
-// a uniform, so the host compiles this file twice and draws the blocks that need no clipping with
-// the cheaper variant. Both give the same bits where nothing is clipped.
+// SHOOTER_ABOVE (defined by the host for a second program): every polygon drawn has the whole
+// shooter above its tangent plane, so nothing needs clipping. llvmpipe runs both sides of every
+// branch, even one on a uniform, so the host compiles this file twice and draws the blocks that
+// need no clipping with the cheaper variant. Where nothing is clipped both compute the same sum,
+// up to float rounding (tests/reconstruction_cover.rs).
 #ifndef SHOOTER_ABOVE
 #define SHOOTER_ABOVE 0
 #endif
@@ -172,7 +173,7 @@ vec3 FormFactorEnergy()
 // ΔL, added to the old values by blending (alpha, the ID, is kept). Every texel that would add
 // nothing is discarded (not a patch; the shooter, which sends nothing to itself and whose unshot
 // energy the host clears; hidden from the shooter; receiving nothing). llvmpipe still shades
-// the whole block: the discards keep the sums exact, they save no time.
+// the whole block: the discards leave those texels untouched, they save no time.
 void main()
 {
     ivec2 texel = ivec2(gl_FragCoord.xy);

@@ -78,7 +78,7 @@ pub struct ReconstructionPass {
     /// The shader, clipping the shooter to each receiver's tangent plane.
     program: Program,
     /// The same, compiled for receivers that have the whole shooter above that plane (no
-    /// clipping: about an eighth of the pass cheaper on llvmpipe; see `glsl/reconstruct.frag`).
+    /// clipping: a third fewer shader instructions on llvmpipe; see `glsl/reconstruct.frag`).
     above: Program,
     /// Each polygon's plane (unit normal n, n·x of its points), texel ID at (ID % width, ID /
     /// width): the robust visibility test asks whether the polygon a pixel shows lies between
@@ -360,8 +360,9 @@ impl ReconstructionPass {
         ctx.check(INIT_NAME)
     }
 
-    /// The receivers to draw for `shooter`: the lightmaps of the polygons that can receive (and
-    /// the shooter's), covered by aligned squares of whole 4×4 blocks (`cover`).
+    /// The receivers to draw for `shooter`: the lightmaps of the polygons that can receive,
+    /// covered by aligned squares of whole 4×4 blocks (`cover`), split by the shader that draws
+    /// them; `touched` gets the receivers and the shooter.
     fn select_receivers(&mut self, shooter: &Shooter) {
         self.touched.clear();
         self.block_flags.fill(0);
