@@ -364,11 +364,6 @@ impl Mesh {
         self.vertex_count = data.len() as i32 / floats_per_vertex;
     }
 
-    /// Every vertex as a point (sized by the vertex shader: enable `PROGRAM_POINT_SIZE`).
-    pub fn draw_points(&self) {
-        self.draw_arrays(glow::POINTS, 0, self.vertex_count);
-    }
-
     pub fn draw_range(&self, first: i32, count: i32) {
         self.draw_arrays(glow::TRIANGLES, first, count);
     }

@@ -93,13 +93,10 @@ pub struct ReconstructionPass {
     /// each (corner, 0).
     squares: Mesh,
     square_vertices: Vec<f32>,
-    /// Which 4×4 blocks of the atlas hold a receiver this pass, row by row: one that needs the
-    /// shooter clipped (`blocks`), or only ones that have it wholly above (`blocks_above`).
-    blocks: Vec<bool>,
-    blocks_above: Vec<bool>,
-    /// Per block, which kinds of polygon have texels in it this pass (`CLIPPED`, ...).
+    /// Per 4×4 block of the atlas, row by row, which kinds of polygon have texels in it this
+    /// pass (`CLIPPED`, `SHOOTER_ABOVE`, `NOT_RECEIVING`).
     block_flags: Vec<u8>,
-    /// How many of `square_vertices` draw `blocks` (the rest draw `blocks_above`).
+    /// How many of `square_vertices` draw with the clipping shader (the rest without).
     clipped_vertices: i32,
     /// Draw the blocks whose receivers all have the shooter above them with the variant that
     /// does not clip (on by default; off to compare).
@@ -188,7 +185,7 @@ impl ReconstructionPass {
         };
         let round_up = |t: i32| (t as u32).div_ceil(largest_square) as i32 * largest_square as i32;
         let blocks_wide = (width as u32).div_ceil(BLOCK) as usize;
-        let blocks = vec![false; blocks_wide * (height as u32).div_ceil(BLOCK) as usize];
+        let blocks = blocks_wide * (height as u32).div_ceil(BLOCK) as usize;
         let mut starts = vec![0];
         let mut outlines = Vec::new();
         for p in &scene.polygons {
@@ -248,9 +245,7 @@ impl ReconstructionPass {
             patches,
             squares,
             square_vertices: Vec::new(),
-            blocks_above: blocks.clone(),
-            block_flags: vec![0; blocks.len()],
-            blocks,
+            block_flags: vec![0; blocks],
             clipped_vertices: 0,
             skip_needless_clipping: true,
             blocks_wide,
@@ -396,23 +391,18 @@ impl ReconstructionPass {
         // Only blocks that hold receivers are drawn; without clipping only where every polygon
         // in the block has the shooter above it (a polygon that receives nothing must get its
         // exact zero from the clipped factor).
-        for ((&f, clipped), above) in self
-            .block_flags
-            .iter()
-            .zip(&mut self.blocks)
-            .zip(&mut self.blocks_above)
-        {
-            *above = f == SHOOTER_ABOVE && self.skip_needless_clipping;
-            *clipped = f & (SHOOTER_ABOVE | CLIPPED) != 0 && !*above;
-        }
+        let skip = self.skip_needless_clipping;
+        let above = |f: &u8| skip && *f == SHOOTER_ABOVE;
+        let clipped = |f: &u8| *f & (SHOOTER_ABOVE | CLIPPED) != 0 && !above(f);
         self.square_vertices.clear();
         let (size, points) = (self.viewport, self.squares_as_points);
         let vertices = &mut self.square_vertices;
-        cover(&self.blocks, bw, self.largest_square, |x, y, side| {
+        let (flags, largest) = (&self.block_flags, self.largest_square);
+        cover(flags, bw, largest, clipped, |x, y, side| {
             push_square(vertices, points, size, x, y, side)
         });
         self.clipped_vertices = vertices.len() as i32 / 3;
-        cover(&self.blocks_above, bw, self.largest_square, |x, y, side| {
+        cover(flags, bw, largest, above, |x, y, side| {
             push_square(vertices, points, size, x, y, side)
         });
         self.squares.replace(&self.square_vertices, 3);
@@ -579,14 +569,21 @@ const BLOCK: u32 = 4;
 /// Larger squares would be drawn partly over blocks that need nothing.
 const LARGEST_SQUARE: u32 = 64;
 
-/// Cover the set `blocks` (rows of `wide` blocks) with aligned squares of whole blocks, none
-/// larger than `largest` texels, each block exactly once: `emit(x, y, side)` in texels. A
-/// square is split into its four quarters unless all of its blocks inside the grid are set.
+/// Cover the blocks for which `is_set` holds (`blocks`: rows of `wide` blocks) with aligned
+/// squares of whole blocks, none larger than `largest` texels, each block exactly once:
+/// `emit(x, y, side)` in texels. A square is split into its four quarters unless all of its
+/// blocks inside the grid are set.
 ///
 /// Why squares and not the receivers' rectangles: a rectangle is two triangles, and llvmpipe
 /// shades every block its diagonal crosses once for each; a thin rectangle of lightmaps costs
 /// about twice its area. A square drawn as one point is shaded block by block, once.
-fn cover(blocks: &[bool], wide: usize, largest: u32, mut emit: impl FnMut(u32, u32, u32)) {
+fn cover<T>(
+    blocks: &[T],
+    wide: usize,
+    largest: u32,
+    is_set: impl Fn(&T) -> bool,
+    mut emit: impl FnMut(u32, u32, u32),
+) {
     let high = blocks.len() / wide.max(1);
     let top = (largest / BLOCK) as usize;
     let mut stack = Vec::new();
@@ -599,7 +596,7 @@ fn cover(blocks: &[bool], wide: usize, largest: u32, mut emit: impl FnMut(u32, u
                     .map(|by| {
                         blocks[by * wide + x..by * wide + x1]
                             .iter()
-                            .filter(|&&b| b)
+                            .filter(|b| is_set(b))
                             .count()
                     })
                     .sum::<usize>();
@@ -659,19 +656,25 @@ mod tests {
             .collect();
         let mut drawn = vec![0u32; blocks.len()];
         let mut sides = std::collections::BTreeSet::new();
-        cover(&blocks, wide, LARGEST_SQUARE, |x, y, side| {
-            assert!(
-                x % side == 0 && y % side == 0,
-                "square {x},{y} side {side} unaligned"
-            );
-            sides.insert(side);
-            let b = |t: u32| (t / BLOCK) as usize;
-            for by in b(y)..b(y + side).min(high) {
-                for bx in b(x)..b(x + side).min(wide) {
-                    drawn[by * wide + bx] += 1;
+        cover(
+            &blocks,
+            wide,
+            LARGEST_SQUARE,
+            |&b| b,
+            |x, y, side| {
+                assert!(
+                    x % side == 0 && y % side == 0,
+                    "square {x},{y} side {side} unaligned"
+                );
+                sides.insert(side);
+                let b = |t: u32| (t / BLOCK) as usize;
+                for by in b(y)..b(y + side).min(high) {
+                    for bx in b(x)..b(x + side).min(wide) {
+                        drawn[by * wide + bx] += 1;
+                    }
                 }
-            }
-        });
+            },
+        );
         for (i, (&set, &n)) in blocks.iter().zip(&drawn).enumerate() {
             assert_eq!(n, set as u32, "block {i}: set {set}, drawn {n} times");
         }
