@@ -12,16 +12,7 @@ uniform float ShooterId;    // the shooter cannot hide anything from itself: it 
 in vec3 Position;
 in float PolygonId;
 
-flat out vec4 ItemColor;  // the polygon's ID as a colour (see encode_id)
-
-// ID + 1 spread over the red, green and blue bytes of the item buffer's RGBA8 (0: no polygon),
-// so up to 2^24 - 1 polygons are told apart exactly. Per vertex, not per fragment: it is the same
-// for the whole polygon.
-vec4 encode_id(float id)
-{
-    int n = int(id + 0.5) + 1;
-    return vec4(float(n & 255), float((n >> 8) & 255), float((n >> 16) & 255), 255.0) / 255.0;
-}
+flat out vec4 ItemColor;  // the polygon's ID as a colour (encode_id: glsl/item_id.glsl)
 
 vec4 hemiproj(vec3 world)
 {

@@ -15,16 +15,22 @@ pub struct Source {
 }
 
 impl Source {
-    /// The same source with `#define name value` after its `#version` line (a compile-time
-    /// variant: llvmpipe runs both sides of a branch, even on a uniform). `#line` keeps the
-    /// compiler's line numbers those of the file.
-    pub fn define(self, name: &str, value: i32) -> Source {
+    /// The same source with `text` inserted after its `#version` line: GLSL 1.30 has no
+    /// `#include`, so functions several files share live in one file inserted into each.
+    /// `#line` keeps the compiler's line numbers those of the file.
+    pub fn insert(self, text: &str) -> Source {
         let (version, rest) = self.text.split_once('\n').unwrap_or((&self.text, ""));
-        let text = format!("{version}\n#define {name} {value}\n#line 2\n{rest}");
+        let text = format!("{version}\n{text}\n#line 2\n{rest}");
         Source {
             file: self.file,
             text: text.into(),
         }
+    }
+
+    /// The same source with `#define name value` (a compile-time variant: llvmpipe runs both
+    /// sides of a branch, even on a uniform).
+    pub fn define(self, name: &str, value: i32) -> Source {
+        self.insert(&format!("#define {name} {value}"))
     }
 }
 

@@ -107,7 +107,8 @@ impl VisibilityPass {
         let vertex = match kind {
             VisibilityKind::Hemisphere => glsl!("hemiproj.vert"),
             VisibilityKind::Hemicube => glsl!("hemicube.vert"),
-        };
+        }
+        .insert(&glsl!("item_id.glsl").text);
         let program = Program::new(
             gl,
             vertex,
