@@ -1,7 +1,8 @@
 #version 130
 // Reconstruction pass, fragment stage (paper 3.2.2, codes 1 and 2). For this patch (fragment):
-// is it the polygon the shooter sees in this direction (item buffer ID test)? If so, the form
-// factor and the received radiance ΔL, written to both attachments. Additive blending adds it to
+// is it the polygon the shooter sees in this direction (item buffer ID test; in a marking pass
+// of its own, see MARK)? If so, the form factor and the received radiance ΔL, written to both
+// attachments. Additive blending adds it to
 // what they hold (the paper's GL_ADD), and the host copies the sums into the lightmap textures
 // (glCopyTexSubImage2D).
 
@@ -30,7 +31,8 @@ uniform float ShootArea;           // area of that outline
 uniform int HemiCube;              // 0: hemispherical projection (paper), 1: hemicube
 uniform int Robust;                // 0: nearest pixel's ID (paper); 1: ID, or the shown plane
 uniform sampler2D PolygonPlanes;   // per polygon ID (row-major, width PlanesWidth): n, n.x
-uniform int PlanesWidth;
+uniform int PlanesWidth;           // a power of two (llvmpipe divides integers lane by lane)
+uniform int PlanesShift;           // log2(PlanesWidth)
 uniform float PlaneSlack;          // world units: how far beyond a plane counts as behind it
 
 out vec4 NewRadiosity;
@@ -87,7 +89,7 @@ bool Visible()
     // (a depth comparison with slack cannot tell those apart at a pixel's resolution).
     if (n == 0)
         return true;
-    vec4 plane = texelFetch(PolygonPlanes, ivec2((n - 1) % PlanesWidth, (n - 1) / PlanesWidth), 0);
+    vec4 plane = texelFetch(PolygonPlanes, ivec2((n - 1) & (PlanesWidth - 1), (n - 1) >> PlanesShift), 0);
     float hs = dot(plane.xyz, ShootPos) - plane.w;
     float hr = dot(plane.xyz, RecvPos) - plane.w;
     return !(abs(hs) > PlaneSlack && abs(hr) > PlaneSlack && (hs > 0.0) != (hr > 0.0));
@@ -119,14 +121,25 @@ float EdgeTerm(vec3 a, vec3 b)
 // the entry point. Written without branches or a local array: llvmpipe runs a block of
 // fragments in lockstep, through both sides of every branch they disagree on, and spills a
 // dynamically indexed local array to memory; this way each edge costs one EdgeTerm.
+// CORNERS (defined by the host for quadrilateral shooters, the rooms' usual case): the corner
+// count is known when compiling, so the loops unroll and every corner is a uniform read once;
+// with a count known only at run time llvmpipe fetches ShootCorners[k] lane by lane.
+#ifndef CORNERS
+#define CORNERS 0
+#endif
+#if CORNERS
+#define CORNER_COUNT CORNERS
+#else
+#define CORNER_COUNT ShootCornerCount
+#endif
 float PolygonFormFactor()
 {
     if (dot(ShootNormal, RecvPos - ShootCorners[0]) <= 0.0)
         return 0.0;
-    vec3 a = ShootCorners[ShootCornerCount - 1] - RecvPos;
+    vec3 a = ShootCorners[CORNER_COUNT - 1] - RecvPos;
     float sum = 0.0;
 #if SHOOTER_ABOVE
-    for (int k = 0; k < ShootCornerCount; ++k) {
+    for (int k = 0; k < CORNER_COUNT; ++k) {
         vec3 b = ShootCorners[k] - RecvPos;
         sum += EdgeTerm(a, b);
         a = b;
@@ -135,7 +148,7 @@ float PolygonFormFactor()
     float da = dot(a, RecvNormal);
     vec3 exit_point = vec3(0.0);   // both stay zero when nothing is clipped: a null closing edge
     vec3 entry_point = vec3(0.0);
-    for (int k = 0; k < ShootCornerCount; ++k) {
+    for (int k = 0; k < CORNER_COUNT; ++k) {
         vec3 b = ShootCorners[k] - RecvPos;
         float db = dot(b, RecvNormal);
         bool above_a = da > 0.0;
@@ -170,18 +183,30 @@ vec3 FormFactorEnergy()
     return ShootEnergy * RecvColor * max(F, 0.0);
 }
 
-// ΔL, added to the old values by blending (alpha, the ID, is kept). Every texel that would add
-// nothing is discarded (not a patch; the shooter, which sends nothing to itself and whose unshot
-// energy the host clears; hidden from the shooter; receiving nothing). llvmpipe still shades
-// the whole block: the discards leave those texels untouched, they save no time.
+// MARK (defined by the host for a third program): the marking pass, drawn over the same squares
+// just before the others. It runs the cheap tests only and writes the pass's depth where a texel
+// can receive (a patch, not the shooter's, seen from the shooter); the pass proper then tests
+// depth EQUAL and computes ΔL only there. llvmpipe runs every branch of a shader for every
+// fragment, but skips the shader for a group of fragments that all fail an early depth test: the
+// only way it has of not computing form factors for the texels the shooter cannot see.
+#ifndef MARK
+#define MARK 0
+#endif
+
+// The pass proper: ΔL, added to the old values by blending (alpha, the ID, is kept). A texel
+// that would add nothing (receiving nothing) is discarded.
 void main()
 {
     ivec2 texel = ivec2(gl_FragCoord.xy);
     vec4 position = texelFetch(PatchPosition, texel, 0);
     RecvPos = position.xyz;
     RecvId = position.w - 1.0;
+#if MARK
+    // Not a patch; the shooter (it sends nothing to itself, and the host clears its unshot
+    // energy); hidden from the shooter.
     if (position.w == 0.0 || RecvId == ShooterId || !Visible())
         discard;
+#else
     RecvNormal = texelFetch(PatchNormal, texel, 0).xyz;
     RecvColor = texelFetch(PatchReflectance, texel, 0).rgb;
     vec3 delta = FormFactorEnergy();
@@ -189,4 +214,5 @@ void main()
         discard;
     NewRadiosity = vec4(delta, 0.0);
     NewUnshot = NewRadiosity;
+#endif
 }

@@ -27,6 +27,7 @@ use super::mesh::ATTRIBUTES;
 use super::visibility::VisibilityPass;
 use super::{FormFactorKind, Shooter, SolveOptions, VisibilityKind, MAX_CORNERS};
 use crate::gl::objects::Attribute;
+use crate::gl::program::Source;
 use crate::gl::{
     Framebuffer, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
 };
@@ -75,11 +76,17 @@ struct PatchData {
 }
 
 pub struct ReconstructionPass {
-    /// The shader, clipping the shooter to each receiver's tangent plane.
-    program: Program,
+    /// The shader, clipping the shooter to each receiver's tangent plane: for any corner count,
+    /// and for quadrilateral shooters (`CORNERS`, unrolled: a tenth less time per pass).
+    program: [Program; 2],
     /// The same, compiled for receivers that have the whole shooter above that plane (no
     /// clipping: a third fewer shader instructions on llvmpipe; see `glsl/reconstruct.frag`).
-    above: Program,
+    above: [Program; 2],
+    /// The marking pass (`MARK`): writes the pass's depth where a texel can receive, so that
+    /// the programs above shade only those texels' blocks.
+    marking: Program,
+    /// The last pass's mark (its depth is `mark / MARKS`); 0 after a clear.
+    mark: u32,
     /// Each polygon's plane (unit normal n, n·x of its points), texel ID at (ID % width, ID /
     /// width): the robust visibility test asks whether the polygon a pixel shows lies between
     /// the shooter and the receiver.
@@ -96,6 +103,7 @@ pub struct ReconstructionPass {
     /// Per 4×4 block of the atlas, row by row, which kinds of polygon have texels in it this
     /// pass (`CLIPPED`, `SHOOTER_ABOVE`, `NOT_RECEIVING`).
     block_flags: Vec<u8>,
+    cover: Cover,
     /// How many of `square_vertices` draw with the clipping shader (the rest without).
     clipped_vertices: i32,
     /// Draw the blocks whose receivers all have the shooter above them with the variant that
@@ -123,8 +131,11 @@ pub struct ReconstructionPass {
     outlines: Vec<Vec3>,
     starts: Vec<usize>,
     normals: Vec<Vec3>,
+    /// Each polygon's bounding sphere (centre, radius).
+    bounds: Vec<(Vec3, f32)>,
     _radiosity_rb: Renderbuffer,
     _unshot_rb: Renderbuffer,
+    _marks_rb: Renderbuffer,
     fbo: Framebuffer,
     width: i32,
     height: i32,
@@ -139,20 +150,15 @@ impl ReconstructionPass {
         let plane_slack = 1e-5 * (hi - lo).length();
         let outputs = &[(0, "NewRadiosity"), (1, "NewUnshot")];
         let squares_in = &[(0, "Corner"), (1, "Size")];
-        let program = Program::new(
-            gl,
-            glsl!("atlas.vert"),
-            glsl!("reconstruct.frag"),
-            squares_in,
-            outputs,
-        )?;
-        let above = Program::new(
-            gl,
-            glsl!("atlas.vert"),
-            glsl!("reconstruct.frag").define("SHOOTER_ABOVE", 1),
-            squares_in,
-            outputs,
-        )?;
+        let compile =
+            |source: Source| Program::new(gl, glsl!("atlas.vert"), source, squares_in, outputs);
+        let frag = || glsl!("reconstruct.frag");
+        let program = [compile(frag())?, compile(frag().define("CORNERS", 4))?];
+        let above = [
+            compile(frag().define("SHOOTER_ABOVE", 1))?,
+            compile(frag().define("SHOOTER_ABOVE", 1).define("CORNERS", 4))?,
+        ];
+        let marking = compile(frag().define("MARK", 1))?;
         let texels = layout.texel_rects();
         let with_patches: Vec<usize> = (0..texels.len())
             .filter(|&p| layout.patches_per_polygon[p] > 0)
@@ -193,6 +199,14 @@ impl ReconstructionPass {
             starts.push(outlines.len());
         }
         let normals = scene.polygons.iter().map(|p| p.normal).collect();
+        let bounds = scene
+            .polygons
+            .iter()
+            .map(|p| {
+                let radius = p.vertices.iter().map(|v| v.distance(p.centroid));
+                (p.centroid, radius.fold(0.0, f32::max))
+            })
+            .collect();
         let make = || Texture::new(gl, width, height, TextureFormat::Rgba32F, glow::NEAREST);
         let patches = PatchData {
             program: Program::new(
@@ -233,12 +247,16 @@ impl ReconstructionPass {
         let fbo = Framebuffer::new(gl)?;
         fbo.attach_renderbuffer(glow::COLOR_ATTACHMENT0, &radiosity_rb);
         fbo.attach_renderbuffer(glow::COLOR_ATTACHMENT1, &unshot_rb);
+        let marks_rb = Renderbuffer::new(gl, glow::DEPTH_COMPONENT32F, width, height)?;
+        fbo.attach_renderbuffer(glow::DEPTH_ATTACHMENT, &marks_rb);
         fbo.check_complete(NAME)?;
         unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
         ctx.check(NAME)?;
         Ok(ReconstructionPass {
             program,
             above,
+            marking,
+            mark: 0,
             planes,
             plane_slack,
             emission,
@@ -246,6 +264,7 @@ impl ReconstructionPass {
             squares,
             square_vertices: Vec::new(),
             block_flags: vec![0; blocks],
+            cover: Cover::default(),
             clipped_vertices: 0,
             skip_needless_clipping: true,
             blocks_wide,
@@ -258,8 +277,10 @@ impl ReconstructionPass {
             outlines,
             starts,
             normals,
+            bounds,
             _radiosity_rb: radiosity_rb,
             _unshot_rb: unshot_rb,
+            _marks_rb: marks_rb,
             fbo,
             width,
             height,
@@ -306,23 +327,45 @@ impl ReconstructionPass {
 
     /// Can polygon `p` receive anything from `shooter`, and is the whole shooter above `p`'s
     /// plane? Some of `p` must lie in front of the shooter and some of the shooter in front of
-    /// `p` (with float slack: never wrongly no; and never wrongly "wholly above").
-    fn reception(&self, p: usize, shooter: &Shooter) -> Reception {
-        let outline = &self.outlines[self.starts[p]..self.starts[p + 1]];
+    /// `p` (with float slack: never wrongly no; and never wrongly "wholly above"). `reach` is the
+    /// shooter's bounding sphere (centre, radius). Most polygons are decided by the two bounding
+    /// spheres, with a margin of one slack over the float noise; the rest corner by corner.
+    fn reception(&self, p: usize, shooter: &Shooter, reach: (Vec3, f32)) -> Reception {
         let slack = self.plane_slack;
+        let outline = &self.outlines[self.starts[p]..self.starts[p + 1]];
+        let (centre, radius) = self.bounds[p];
         let base = shooter.corners[0];
-        let in_front = outline
-            .iter()
-            .any(|&v| shooter.normal.dot(v - base) > -slack);
+        let ahead = shooter.normal.dot(centre - base);
+        let in_front = if ahead - radius > 0.0 {
+            true
+        } else if ahead + radius < -2.0 * slack {
+            false
+        } else {
+            outline
+                .iter()
+                .any(|&v| shooter.normal.dot(v - base) > -slack)
+        };
+        if !in_front {
+            return Reception::Nothing;
+        }
         let n = self.normals[p];
-        let heights = shooter.corners[..shooter.corner_count.max(1)]
-            .iter()
-            .chain(std::iter::once(&shooter.position))
-            .map(|&c| n.dot(c - outline[0]));
-        let (lowest, highest) = heights.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), h| {
-            (lo.min(h), hi.max(h))
-        });
-        if !(in_front && highest > -slack) {
+        let height = n.dot(reach.0 - outline[0]);
+        let (lowest, highest) = if height - reach.1 > 2.0 * slack {
+            (height - reach.1, height + reach.1)
+        } else if height + reach.1 < -2.0 * slack {
+            return Reception::Nothing;
+        } else {
+            let mut range = (f32::INFINITY, f32::NEG_INFINITY);
+            for &c in shooter.corners[..shooter.corner_count.max(1)]
+                .iter()
+                .chain(std::iter::once(&shooter.position))
+            {
+                let h = n.dot(c - outline[0]);
+                range = (range.0.min(h), range.1.max(h));
+            }
+            range
+        };
+        if highest <= -slack {
             Reception::Nothing
         } else if shooter.corner_count > 0 && lowest > slack {
             Reception::ShooterAbove
@@ -350,6 +393,11 @@ impl ReconstructionPass {
         mesh.draw();
         ctx.check(INIT_NAME)?;
         self.begin(ctx, true);
+        unsafe {
+            ctx.gl.depth_mask(true);
+            ctx.gl.clear_depth_f64(1.0);
+            ctx.gl.clear(glow::DEPTH_BUFFER_BIT);
+        }
         self.emission.use_program();
         mesh.draw();
         ctx.check(INIT_NAME)
@@ -361,6 +409,14 @@ impl ReconstructionPass {
     fn select_receivers(&mut self, shooter: &Shooter) {
         self.touched.clear();
         self.block_flags.fill(0);
+        let corners = &shooter.corners[..shooter.corner_count.max(1)];
+        let reach = (
+            shooter.position,
+            corners
+                .iter()
+                .map(|c| c.distance(shooter.position))
+                .fold(0.0, f32::max),
+        );
         let bw = self.blocks_wide;
         for k in 0..self.with_patches.len() {
             let p = self.with_patches[k];
@@ -370,7 +426,7 @@ impl ReconstructionPass {
                 self.touched.push(p);
                 continue;
             }
-            let flag = match self.reception(p, shooter) {
+            let flag = match self.reception(p, shooter, reach) {
                 Reception::Nothing => NOT_RECEIVING,
                 Reception::ShooterAbove => SHOOTER_ABOVE,
                 Reception::Clipped => CLIPPED,
@@ -398,11 +454,12 @@ impl ReconstructionPass {
         let (size, points) = (self.viewport, self.squares_as_points);
         let vertices = &mut self.square_vertices;
         let (flags, largest) = (&self.block_flags, self.largest_square);
-        cover(flags, bw, largest, clipped, |x, y, side| {
-            push_square(vertices, points, size, x, y, side)
-        });
+        self.cover
+            .squares(flags, bw, largest, clipped, |x, y, side| {
+                push_square(vertices, points, size, x, y, side)
+            });
         self.clipped_vertices = vertices.len() as i32 / 3;
-        cover(flags, bw, largest, above, |x, y, side| {
+        self.cover.squares(flags, bw, largest, above, |x, y, side| {
             push_square(vertices, points, size, x, y, side)
         });
         self.squares.replace(&self.square_vertices, 3);
@@ -429,28 +486,27 @@ impl ReconstructionPass {
             gl.viewport(0, 0, self.viewport.0, self.viewport.1);
             gl.enable(glow::SCISSOR_TEST);
             gl.scissor(0, 0, self.width, self.height);
-            // ΔL added to both attachments; their alpha (the ID) kept.
-            gl.enable(glow::BLEND);
-            gl.blend_equation(glow::FUNC_ADD);
-            gl.blend_func_separate(glow::ONE, glow::ONE, glow::ZERO, glow::ONE);
             if self.squares_as_points {
                 gl.enable(glow::PROGRAM_POINT_SIZE);
             }
         }
+        // This pass's mark: a depth that no earlier pass since the last clear has written.
+        self.mark += 1;
+        if self.mark == MARKS {
+            unsafe {
+                gl.depth_mask(true);
+                gl.clear(glow::DEPTH_BUFFER_BIT);
+            }
+            self.mark = 1;
+        }
+        let depth = self.mark as f32 / MARKS as f32 * 2.0 - 1.0;
         let mut corners = [0.0f32; 3 * MAX_CORNERS];
         for (c, v) in corners.chunks_exact_mut(3).zip(&shooter.corners) {
             c.copy_from_slice(&v.to_array());
         }
-        let total = self.squares.vertex_count;
-        let split = self.clipped_vertices;
-        for (p, first, count) in [
-            (&self.program, 0, split),
-            (&self.above, split, total - split),
-        ] {
-            if count == 0 {
-                continue;
-            }
+        let uniforms = |p: &Program| {
             p.use_program();
+            p.set_f32("Depth", depth);
             p.set_i32("PatchPosition", 4);
             p.set_i32("PatchNormal", 5);
             p.set_i32("PatchReflectance", 6);
@@ -474,17 +530,49 @@ impl ReconstructionPass {
             p.set_i32("Robust", options.robust_visibility as i32);
             p.set_i32("PolygonPlanes", 3);
             p.set_i32("PlanesWidth", self.planes.width);
+            p.set_i32("PlanesShift", self.planes.width.trailing_zeros() as i32);
             p.set_f32("PlaneSlack", self.plane_slack);
-            let mode = if self.squares_as_points {
-                glow::POINTS
-            } else {
-                glow::TRIANGLES
-            };
-            self.squares.draw_arrays(mode, first, count);
+        };
+        let mode = if self.squares_as_points {
+            glow::POINTS
+        } else {
+            glow::TRIANGLES
+        };
+        let total = self.squares.vertex_count;
+        // Marking: the mark's depth where a texel can receive, nothing else.
+        unsafe {
+            gl.enable(glow::DEPTH_TEST);
+            gl.depth_func(glow::ALWAYS);
+            gl.depth_mask(true);
+            gl.color_mask(false, false, false, false);
+        }
+        uniforms(&self.marking);
+        self.squares.draw_arrays(mode, 0, total);
+        // The pass proper on the marked texels: ΔL added to both attachments, their alpha (the
+        // ID) kept.
+        unsafe {
+            gl.depth_func(glow::EQUAL);
+            gl.depth_mask(false);
+            gl.color_mask(true, true, true, true);
+            gl.enable(glow::BLEND);
+            gl.blend_equation(glow::FUNC_ADD);
+            gl.blend_func_separate(glow::ONE, glow::ONE, glow::ZERO, glow::ONE);
+        }
+        let quad = (shooter.corner_count == 4) as usize;
+        let split = self.clipped_vertices;
+        for (p, first, count) in [
+            (&self.program[quad], 0, split),
+            (&self.above[quad], split, total - split),
+        ] {
+            if count > 0 {
+                uniforms(p);
+                self.squares.draw_arrays(mode, first, count);
+            }
         }
         unsafe {
             gl.disable(glow::PROGRAM_POINT_SIZE);
             gl.disable(glow::BLEND);
+            gl.disable(glow::DEPTH_TEST);
             // The shooter's texels have shot: clear their unshot energy (paper: "清零"), RGB
             // only (alpha is the ID; the texels that are no patch hold zero already).
             let [x0, y0, x1, y1] = shooter.texels.map(|v| v as i32);
@@ -555,6 +643,10 @@ const CLIPPED: u8 = 1;
 const SHOOTER_ABOVE: u8 = 2;
 const NOT_RECEIVING: u8 = 4;
 
+/// Marks (depths) used before the marking depth buffer is cleared again: k / 2^22, exact in a
+/// float, never the clear value 1.
+const MARKS: u32 = 1 << 22;
+
 /// What a receiver gets from a shooter (see `ReconstructionPass::reception`).
 enum Reception {
     Nothing,
@@ -569,49 +661,66 @@ const BLOCK: u32 = 4;
 /// Larger squares would be drawn partly over blocks that need nothing.
 const LARGEST_SQUARE: u32 = 64;
 
-/// Cover the blocks for which `is_set` holds (`blocks`: rows of `wide` blocks) with aligned
-/// squares of whole blocks, none larger than `largest` texels, each block exactly once:
-/// `emit(x, y, side)` in texels. A square is split into its four quarters unless all of its
-/// blocks inside the grid are set.
-///
-/// Why squares and not the receivers' rectangles: a rectangle is two triangles, and llvmpipe
-/// shades every block its diagonal crosses once for each; a thin rectangle of lightmaps costs
-/// about twice its area. A square drawn as one point is shaded block by block, once.
-fn cover<T>(
-    blocks: &[T],
-    wide: usize,
-    largest: u32,
-    is_set: impl Fn(&T) -> bool,
-    mut emit: impl FnMut(u32, u32, u32),
-) {
-    let high = blocks.len() / wide.max(1);
-    let top = (largest / BLOCK) as usize;
-    let mut stack = Vec::new();
-    for y in (0..high).step_by(top) {
-        for x in (0..wide).step_by(top) {
-            stack.push((x, y, top));
-            while let Some((x, y, side)) = stack.pop() {
-                let (x1, y1) = ((x + side).min(wide), (y + side).min(high));
-                let set = (y..y1)
-                    .map(|by| {
-                        blocks[by * wide + x..by * wide + x1]
-                            .iter()
-                            .filter(|b| is_set(b))
-                            .count()
-                    })
-                    .sum::<usize>();
-                if set == 0 {
-                    continue;
-                }
-                if set == (x1 - x) * (y1 - y) {
-                    let t = |b: usize| b as u32 * BLOCK;
-                    emit(t(x), t(y), t(side));
-                    continue;
-                }
-                let half = side / 2;
-                for (dx, dy) in [(0, 0), (half, 0), (0, half), (half, half)] {
-                    if x + dx < wide && y + dy < high {
-                        stack.push((x + dx, y + dy, half));
+/// Covers blocks with squares (see `Cover::squares`); keeps its scratch space between passes.
+#[derive(Default)]
+struct Cover {
+    /// Summed-area table of the set blocks: entry (x, y) counts those in [0, x) × [0, y).
+    sums: Vec<u32>,
+    stack: Vec<(usize, usize, usize)>,
+}
+
+impl Cover {
+    /// Cover the blocks for which `is_set` holds (`blocks`: rows of `wide` blocks) with aligned
+    /// squares of whole blocks, none larger than `largest` texels, each block exactly once:
+    /// `emit(x, y, side)` in texels. A square is split into its four quarters unless all of its
+    /// blocks inside the grid are set.
+    ///
+    /// Why squares and not the receivers' rectangles: a rectangle is two triangles, and llvmpipe
+    /// shades every block its diagonal crosses once for each; a thin rectangle of lightmaps costs
+    /// about twice its area. A square drawn as one point is shaded block by block, once.
+    fn squares<T>(
+        &mut self,
+        blocks: &[T],
+        wide: usize,
+        largest: u32,
+        is_set: impl Fn(&T) -> bool,
+        mut emit: impl FnMut(u32, u32, u32),
+    ) {
+        let high = blocks.len() / wide.max(1);
+        let row = wide + 1;
+        self.sums.clear();
+        self.sums.resize(row * (high + 1), 0);
+        for y in 0..high {
+            let mut run = 0;
+            for x in 0..wide {
+                run += is_set(&blocks[y * wide + x]) as u32;
+                self.sums[(y + 1) * row + x + 1] = self.sums[y * row + x + 1] + run;
+            }
+        }
+        let sums = &self.sums;
+        let count = |x0: usize, y0: usize, x1: usize, y1: usize| {
+            sums[y1 * row + x1] + sums[y0 * row + x0] - sums[y0 * row + x1] - sums[y1 * row + x0]
+        };
+        let top = (largest / BLOCK) as usize;
+        for y in (0..high).step_by(top) {
+            for x in (0..wide).step_by(top) {
+                self.stack.push((x, y, top));
+                while let Some((x, y, side)) = self.stack.pop() {
+                    let (x1, y1) = ((x + side).min(wide), (y + side).min(high));
+                    let set = count(x, y, x1, y1) as usize;
+                    if set == 0 {
+                        continue;
+                    }
+                    if set == (x1 - x) * (y1 - y) {
+                        let t = |b: usize| b as u32 * BLOCK;
+                        emit(t(x), t(y), t(side));
+                        continue;
+                    }
+                    let half = side / 2;
+                    for (dx, dy) in [(0, 0), (half, 0), (0, half), (half, half)] {
+                        if x + dx < wide && y + dy < high {
+                            self.stack.push((x + dx, y + dy, half));
+                        }
                     }
                 }
             }
@@ -622,7 +731,8 @@ fn cover<T>(
 /// The polygons' planes as an RGBA32F texture (see `ReconstructionPass::planes`).
 fn polygon_planes(ctx: &GlContext, scene: &Scene) -> Result<Texture, GlError> {
     let n = scene.polygons.len().max(1);
-    let width = n.min(ctx.info.max_texture_size.max(1) as usize);
+    let largest = 1usize << (ctx.info.max_texture_size.max(1) as u32).ilog2();
+    let width = n.next_power_of_two().min(largest);
     let height = n.div_ceil(width);
     let mut data = vec![0.0f32; width * height * 4];
     for (texel, p) in data.chunks_exact_mut(4).zip(&scene.polygons) {
@@ -656,7 +766,7 @@ mod tests {
             .collect();
         let mut drawn = vec![0u32; blocks.len()];
         let mut sides = std::collections::BTreeSet::new();
-        cover(
+        Cover::default().squares(
             &blocks,
             wide,
             LARGEST_SQUARE,
