@@ -41,15 +41,10 @@ fn passes(c: &mut Criterion) {
     // As the solver draws it: coplanar neighbours as plates (hemicube, robust test).
     let plates = mesh::plate_data(&scene, &layout, visibility.merge_plates(&scene));
     let geometry = mesh::upload_scene(&ctx.gl, &plates, scene.polygons.len()).unwrap();
-    let patches = mesh::upload_scene(
-        &ctx.gl,
-        &mesh::vertex_data(&scene, &layout),
-        scene.polygons.len(),
-    )
-    .unwrap();
+    let patches = mesh::upload(&ctx.gl, &mesh::vertex_data(&scene, &layout)).unwrap();
     let mut reconstruction = ReconstructionPass::new(&ctx, &scene, &layout).unwrap();
     let lightmaps = Lightmaps::new(&ctx, w, h).unwrap();
-    reconstruction.emit(&ctx, &patches.mesh).unwrap();
+    reconstruction.emit(&ctx, &patches).unwrap();
     reconstruction.copy_into(&ctx, &lightmaps).unwrap();
     finish();
 

@@ -292,7 +292,8 @@ impl VisibilityPass {
                     }
                     if inside == (pass == 0) {
                         let (first, count) = mesh.ranges[p];
-                        self.indices.extend(first..first + count);
+                        let corners = &mesh.triangles[first as usize..(first + count) as usize];
+                        self.indices.extend_from_slice(corners);
                     }
                 }
                 if pass == 0 {
@@ -361,6 +362,10 @@ impl VisibilityPass {
         unsafe {
             gl.disable(glow::DEPTH_TEST);
             gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+            // Rasterise now: llvmpipe queues the pass and returns, so the CPU picks the
+            // receivers meanwhile (otherwise the pass waits until the reconstruction binds the
+            // item buffer).
+            gl.flush();
         }
         ctx.check(NAME)
     }
