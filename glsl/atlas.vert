@@ -6,10 +6,9 @@
 
 in vec2 Corner;
 in float Size;
-uniform float Depth;     // the pass's mark (see reconstruct.frag)
 
 void main()
 {
-    gl_Position = vec4(Corner, Depth, 1.0);
+    gl_Position = vec4(Corner, 0.0, 1.0);
     gl_PointSize = Size;
 }

@@ -184,7 +184,7 @@ vec3 FormFactorEnergy()
 }
 
 // MARK (defined by the host for a third program): the marking pass, drawn over the same squares
-// just before the others. It runs the cheap tests only and writes the pass's depth where a texel
+// just before the others. It runs the cheap tests only and writes depth where a texel
 // can receive (a patch, not the shooter's, seen from the shooter); the pass proper then tests
 // depth EQUAL and computes ΔL only there. llvmpipe runs every branch of a shader for every
 // fragment, but skips the shader for a group of fragments that all fail an early depth test: the

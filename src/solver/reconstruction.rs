@@ -11,8 +11,14 @@
 //! gutters (`PatchLayout::without_gutters`) and each block is drawn once. Only receivers that can
 //! get anything are covered: some of the polygon in front of the shooter and some of the shooter
 //! in front of the polygon (the rest would add exactly zero, and do where a square reaches them).
-//! The blocks whose polygons all have the whole shooter above their plane are drawn with a
-//! variant of the shader that does not clip it (`SHOOTER_ABOVE`), the rest with the full one.
+//!
+//! The squares are drawn twice. First a marking pass (`MARK`) runs the visibility test alone and
+//! writes depth where a texel is seen from the shooter; then the form factors are computed with
+//! depth test EQUAL, which llvmpipe does before the shader and which lets it skip every group of
+//! 4×2 fragments that has no marked texel: about half of them, since a typical shooter sees a
+//! quarter of the texels drawn. The blocks whose polygons all have the whole shooter above their
+//! plane are drawn with a variant that does not clip it (`SHOOTER_ABOVE`), the rest with the
+//! full one; both are also compiled for quadrilateral shooters (`CORNERS`).
 //! The renderbuffers are never cleared after initialisation, so the texels not drawn keep what
 //! the last copy put into the textures: each copy still moves a whole, current atlas.
 //!
@@ -77,16 +83,14 @@ struct PatchData {
 
 pub struct ReconstructionPass {
     /// The shader, clipping the shooter to each receiver's tangent plane: for any corner count,
-    /// and for quadrilateral shooters (`CORNERS`, unrolled: a tenth less time per pass).
+    /// and for quadrilateral shooters (`CORNERS`, unrolled: about 5 % less time per pass).
     program: [Program; 2],
     /// The same, compiled for receivers that have the whole shooter above that plane (no
     /// clipping: a third fewer shader instructions on llvmpipe; see `glsl/reconstruct.frag`).
     above: [Program; 2],
-    /// The marking pass (`MARK`): writes the pass's depth where a texel can receive, so that
+    /// The marking pass (`MARK`): writes depth where a texel can receive, so that
     /// the programs above shade only those texels' blocks.
     marking: Program,
-    /// The last pass's mark (its depth is `mark / MARKS`); 0 after a clear.
-    mark: u32,
     /// Each polygon's plane (unit normal n, n·x of its points), texel ID at (ID % width, ID /
     /// width): the robust visibility test asks whether the polygon a pixel shows lies between
     /// the shooter and the receiver.
@@ -109,6 +113,10 @@ pub struct ReconstructionPass {
     /// Draw the blocks whose receivers all have the shooter above them with the variant that
     /// does not clip (on by default; off to compare).
     pub skip_needless_clipping: bool,
+    /// Use the programs unrolled for quadrilateral shooters (on by default; off to compare).
+    pub unroll_quads: bool,
+    /// Passes drawn with them so far.
+    pub quad_passes: u32,
     blocks_wide: usize,
     /// Largest square side drawn, texels (a power of two, at least `BLOCK`).
     largest_square: u32,
@@ -256,7 +264,6 @@ impl ReconstructionPass {
             program,
             above,
             marking,
-            mark: 0,
             planes,
             plane_slack,
             emission,
@@ -267,6 +274,8 @@ impl ReconstructionPass {
             cover: Cover::default(),
             clipped_vertices: 0,
             skip_needless_clipping: true,
+            unroll_quads: true,
+            quad_passes: 0,
             blocks_wide,
             largest_square,
             squares_as_points,
@@ -393,11 +402,6 @@ impl ReconstructionPass {
         mesh.draw();
         ctx.check(INIT_NAME)?;
         self.begin(ctx, true);
-        unsafe {
-            ctx.gl.depth_mask(true);
-            ctx.gl.clear_depth_f64(1.0);
-            ctx.gl.clear(glow::DEPTH_BUFFER_BIT);
-        }
         self.emission.use_program();
         mesh.draw();
         ctx.check(INIT_NAME)
@@ -490,23 +494,12 @@ impl ReconstructionPass {
                 gl.enable(glow::PROGRAM_POINT_SIZE);
             }
         }
-        // This pass's mark: a depth that no earlier pass since the last clear has written.
-        self.mark += 1;
-        if self.mark == MARKS {
-            unsafe {
-                gl.depth_mask(true);
-                gl.clear(glow::DEPTH_BUFFER_BIT);
-            }
-            self.mark = 1;
-        }
-        let depth = self.mark as f32 / MARKS as f32 * 2.0 - 1.0;
         let mut corners = [0.0f32; 3 * MAX_CORNERS];
         for (c, v) in corners.chunks_exact_mut(3).zip(&shooter.corners) {
             c.copy_from_slice(&v.to_array());
         }
         let uniforms = |p: &Program| {
             p.use_program();
-            p.set_f32("Depth", depth);
             p.set_i32("PatchPosition", 4);
             p.set_i32("PatchNormal", 5);
             p.set_i32("PatchReflectance", 6);
@@ -539,11 +532,14 @@ impl ReconstructionPass {
             glow::TRIANGLES
         };
         let total = self.squares.vertex_count;
-        // Marking: the mark's depth where a texel can receive, nothing else.
+        // Marking: depth 1 cleared, the squares' depth (½) written where a texel can receive,
+        // nothing else.
         unsafe {
+            gl.depth_mask(true);
+            gl.clear_depth_f64(1.0);
+            gl.clear(glow::DEPTH_BUFFER_BIT);
             gl.enable(glow::DEPTH_TEST);
             gl.depth_func(glow::ALWAYS);
-            gl.depth_mask(true);
             gl.color_mask(false, false, false, false);
         }
         uniforms(&self.marking);
@@ -558,7 +554,8 @@ impl ReconstructionPass {
             gl.blend_equation(glow::FUNC_ADD);
             gl.blend_func_separate(glow::ONE, glow::ONE, glow::ZERO, glow::ONE);
         }
-        let quad = (shooter.corner_count == 4) as usize;
+        let quad = (self.unroll_quads && shooter.corner_count == 4) as usize;
+        self.quad_passes += quad as u32;
         let split = self.clipped_vertices;
         for (p, first, count) in [
             (&self.program[quad], 0, split),
@@ -642,10 +639,6 @@ fn push_square(vertices: &mut Vec<f32>, points: bool, size: (i32, i32), x: u32, 
 const CLIPPED: u8 = 1;
 const SHOOTER_ABOVE: u8 = 2;
 const NOT_RECEIVING: u8 = 4;
-
-/// Marks (depths) used before the marking depth buffer is cleared again: k / 2^22, exact in a
-/// float, never the clear value 1.
-const MARKS: u32 = 1 << 22;
 
 /// What a receiver gets from a shooter (see `ReconstructionPass::reception`).
 enum Reception {
