@@ -62,20 +62,8 @@ fn atlases_come_back_in_the_callers_layout() {
 fn skipping_needless_clipping_changes_nothing_but_float_noise() {
     // Blocks whose receivers all have the whole shooter above their plane are drawn with the
     // shader variant that does not clip it: the same contour integral, so the same lightmaps up
-    // to float rounding. The Cornell box with its default options (shooter cells) and the
-    // simple room with the bench's.
-    for (name, options) in [
-        ("cornell", gpu_radiosity::solver::SolveOptions::default()),
-        ("simple", gpu_radiosity::cli::bench::bench_options(0.01)),
-    ] {
-        let scene = load(name);
-        let resolution = scene
-            .patch_size
-            .map_or(Resolution::Patches(4096), Resolution::PatchSize);
-        let layout = PatchLayout::new(&scene, resolution);
-        let ctx = context();
-        let mut split = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
-        let mut clipped = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
+    // to float rounding.
+    on_both_rooms(|name, mut split, mut clipped| {
         clipped.reconstruction.skip_needless_clipping = false;
         let (mut cheap, mut full) = (0, 0);
         for _ in 0..40 {
@@ -103,26 +91,15 @@ fn skipping_needless_clipping_changes_nothing_but_float_noise() {
             "{name}: L1 difference {}",
             diff / total
         );
-    }
+    });
 }
 
 #[test]
 fn programs_unrolled_for_quadrilaterals_give_the_same_lightmaps() {
     // Quadrilateral shooters are drawn with programs compiled for four corners (`CORNERS`):
     // the same sums in the same order as the loop over a corner count read at run time, so
-    // the same lightmaps, bit for bit (measured on both rooms below).
-    for (name, options) in [
-        ("cornell", gpu_radiosity::solver::SolveOptions::default()),
-        ("simple", gpu_radiosity::cli::bench::bench_options(0.01)),
-    ] {
-        let scene = load(name);
-        let resolution = scene
-            .patch_size
-            .map_or(Resolution::Patches(4096), Resolution::PatchSize);
-        let layout = PatchLayout::new(&scene, resolution);
-        let ctx = context();
-        let mut unrolled = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
-        let mut looped = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
+    // the same lightmaps, bit for bit (measured on both rooms).
+    on_both_rooms(|name, mut unrolled, mut looped| {
         looped.reconstruction.unroll_quads = false;
         for _ in 0..40 {
             let a = unrolled.step().unwrap().unwrap();
@@ -141,5 +118,24 @@ fn programs_unrolled_for_quadrilaterals_give_the_same_lightmaps() {
             "{name}: the unrolled programs computed different radiance"
         );
         assert_eq!(unrolled.unshot_atlas(), looped.unshot_atlas(), "{name}");
+    });
+}
+
+/// Run `check` on two solvers made alike, for the Cornell box with its default options (shooter
+/// cells) and for the simple room with the bench's.
+fn on_both_rooms(mut check: impl FnMut(&str, GpuSolver<'_>, GpuSolver<'_>)) {
+    for (name, options) in [
+        ("cornell", gpu_radiosity::solver::SolveOptions::default()),
+        ("simple", gpu_radiosity::cli::bench::bench_options(0.01)),
+    ] {
+        let scene = load(name);
+        let resolution = scene
+            .patch_size
+            .map_or(Resolution::Patches(4096), Resolution::PatchSize);
+        let layout = PatchLayout::new(&scene, resolution);
+        let ctx = context();
+        let a = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
+        let b = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
+        check(name, a, b);
     }
 }
