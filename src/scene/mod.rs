@@ -105,6 +105,12 @@ impl Polygon {
             .iter()
             .all(|v| (v.dot(self.normal) - d).abs() <= tolerance * size)
     }
+
+    /// A sphere around the polygon: its centroid and the distance to its farthest vertex.
+    pub fn bounding_sphere(&self) -> (Vec3, f32) {
+        let radius = self.vertices.iter().map(|v| v.distance(self.centroid));
+        (self.centroid, radius.fold(0.0, f32::max))
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

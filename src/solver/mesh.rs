@@ -149,7 +149,7 @@ pub fn upload_scene(
             range.0 = triangles.len() as u32;
         }
         range.1 += 1;
-        let bits: Vec<u32> = vertex.iter().map(|f| f.to_bits()).collect();
+        let bits: [u32; FLOATS as usize] = std::array::from_fn(|i| vertex[i].to_bits());
         let index = *seen.entry(bits).or_insert_with(|| {
             corners.extend_from_slice(vertex);
             (corners.len() / FLOATS as usize - 1) as u32

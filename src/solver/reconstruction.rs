@@ -207,14 +207,7 @@ impl ReconstructionPass {
             starts.push(outlines.len());
         }
         let normals = scene.polygons.iter().map(|p| p.normal).collect();
-        let bounds = scene
-            .polygons
-            .iter()
-            .map(|p| {
-                let radius = p.vertices.iter().map(|v| v.distance(p.centroid));
-                (p.centroid, radius.fold(0.0, f32::max))
-            })
-            .collect();
+        let bounds = scene.polygons.iter().map(|p| p.bounding_sphere()).collect();
         let make = || Texture::new(gl, width, height, TextureFormat::Rgba32F, glow::NEAREST);
         let patches = PatchData {
             program: Program::new(

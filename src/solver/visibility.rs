@@ -47,6 +47,8 @@ pub struct VisibilityPass {
     /// The triangles each view draws after culling, views one after another, each view's
     /// unclipped polygons first (reused).
     indices: Vec<u32>,
+    /// One view's polygons that may need clipping, gathered to follow its others (reused).
+    clipped: Vec<u32>,
     stream: IndexStream,
     /// The scene's convex solids, whose faces turned away from the shooter are left out (see
     /// `scene::solids`: the item buffer stays the same).
@@ -103,18 +105,7 @@ impl VisibilityPass {
         let gl = &ctx.gl;
         let (lo, hi) = scene.bounds();
         let scene_size = (hi - lo).length();
-        let spheres = scene
-            .polygons
-            .iter()
-            .map(|p| {
-                let r = p
-                    .vertices
-                    .iter()
-                    .map(|v| v.distance(p.centroid))
-                    .fold(0.0, f32::max);
-                (p.centroid, r)
-            })
-            .collect();
+        let spheres = scene.polygons.iter().map(|p| p.bounding_sphere()).collect();
         let vertex = match kind {
             VisibilityKind::Hemisphere => glsl!("hemiproj.vert"),
             VisibilityKind::Hemicube => glsl!("hemicube.vert"),
@@ -168,6 +159,7 @@ impl VisibilityPass {
             spheres,
             in_front: Vec::new(),
             indices: Vec::new(),
+            clipped: Vec::new(),
             stream: IndexStream::new(gl)?,
             solids: Solids::find(scene),
             planes: scene
@@ -273,33 +265,32 @@ impl VisibilityPass {
         self.indices.clear();
         for (k, range) in ranges.iter_mut().enumerate().take(views) {
             let start = self.indices.len();
-            let mut unclipped = 0;
-            for pass in 0..2 {
-                for &(p, c, radius) in &self.in_front {
-                    let mut inside = false;
-                    if self.kind == VisibilityKind::Hemicube {
-                        // Outside one of the face's four 45° side planes (unit normals (±1, 0,
-                        // -1)/√2 and (0, ±1, -1)/√2 in face space).
-                        let f = rotations[k] * c;
-                        let reach = radius * std::f32::consts::SQRT_2;
-                        if -f.z - f.x.abs() < -reach || -f.z - f.y.abs() < -reach {
-                            continue;
-                        }
-                        // Inside the guarded side planes (normals (±1, 0, -g)/√(1 + g²), ...).
-                        inside = -f.z - radius > 2.0 * near
-                            && -g * f.z - f.x.abs() > radius * side
-                            && -g * f.z - f.y.abs() > radius * side;
+            self.clipped.clear();
+            for &(p, c, radius) in &self.in_front {
+                let mut inside = false;
+                if self.kind == VisibilityKind::Hemicube {
+                    // Outside one of the face's four 45° side planes (unit normals (±1, 0, -1)/√2
+                    // and (0, ±1, -1)/√2 in face space).
+                    let f = rotations[k] * c;
+                    let reach = radius * std::f32::consts::SQRT_2;
+                    if -f.z - f.x.abs() < -reach || -f.z - f.y.abs() < -reach {
+                        continue;
                     }
-                    if inside == (pass == 0) {
-                        let (first, count) = mesh.ranges[p];
-                        let corners = &mesh.triangles[first as usize..(first + count) as usize];
-                        self.indices.extend_from_slice(corners);
-                    }
+                    // Inside the guarded side planes (normals (±1, 0, -g)/√(1 + g²), ...).
+                    inside = -f.z - radius > 2.0 * near
+                        && -g * f.z - f.x.abs() > radius * side
+                        && -g * f.z - f.y.abs() > radius * side;
                 }
-                if pass == 0 {
-                    unclipped = self.indices.len() - start;
+                let (first, count) = mesh.ranges[p];
+                let corners = &mesh.triangles[first as usize..(first + count) as usize];
+                if inside {
+                    self.indices.extend_from_slice(corners);
+                } else {
+                    self.clipped.extend_from_slice(corners);
                 }
             }
+            let unclipped = self.indices.len() - start;
+            self.indices.extend_from_slice(&self.clipped);
             *range = (start, unclipped, self.indices.len() - start - unclipped);
         }
         self.stream.upload(&self.indices);
