@@ -60,7 +60,7 @@ fn passes(c: &mut Criterion) {
     group.bench_function("reconstruction pass", |b| {
         b.iter(|| {
             reconstruction
-                .run(&ctx, &visibility, shooter, &options)
+                .run(&ctx, &visibility, &lightmaps, shooter, &options)
                 .unwrap();
             finish();
         })

@@ -1,14 +1,18 @@
 #version 130
 // Reconstruction pass, fragment stage (paper 3.2.2, codes 1 and 2). For this patch (fragment):
-// is it the polygon the shooter sees in this direction (item buffer ID test; in a marking pass
-// of its own, see MARK)? If so, the form factor and the received radiance ΔL, written to both
-// attachments. Additive blending adds it to
-// what they hold (the paper's GL_ADD), and the host copies the sums into the lightmap textures
-// (glCopyTexSubImage2D).
+// is it the polygon the shooter sees in this direction (item buffer ID test)? If so, the form
+// factor and the received radiance ΔL. The paper's GL_ADD texture environment, in GLSL 1.30:
+// the patch's current radiance and unshot radiance are read from the lightmap textures and
+// old + ΔL is written to the two renderbuffer attachments; the host then copies them back into
+// the textures with glCopyTexSubImage2D, ready for the next shot. The shooter's own texels get
+// unshot radiance zero ("the shooter's lightmap energy is cleared").
 
 uniform sampler2D PatchPosition;   // per patch: world position, polygon ID + 1 (0: no patch)
 uniform sampler2D PatchNormal;
 uniform sampler2D PatchReflectance;
+uniform sampler2D LightmapRadiosity; // the lightmaps as the last glCopyTexSubImage2D left them
+uniform sampler2D LightmapUnshot;
+uniform ivec4 ShooterTexels;       // [x0, y0, x1, y1): the texels that shoot now (unshot -> 0)
 
 // This fragment's patch, read from the atlas textures (see patchdata.frag) at the start of main.
 vec3 RecvPos = vec3(0.0);
@@ -176,43 +180,62 @@ vec3 FormFactorEnergy()
         vec3 r = ShootPos - RecvPos;
         float distance = dot(r, r);
         r = normalize(r);
-        float cosi = dot(RecvNormal, r);
-        float cosj = -dot(ShootNormal, r);
-        F = max(cosi * cosj, 0.0) / (pi * distance);
+        // Each cosine clamped on its own (the paper clamps the product, which lets a receiver
+        // behind the shooter and facing away from it through: two negative cosines).
+        float cosi = max(dot(RecvNormal, r), 0.0);
+        float cosj = max(-dot(ShootNormal, r), 0.0);
+        F = cosi * cosj / (pi * distance);
     }
     return ShootEnergy * RecvColor * max(F, 0.0);
 }
 
-// MARK (defined by the host for a third program): the marking pass, drawn over the same squares
-// just before the others. It runs the cheap tests only and writes depth where a texel
-// can receive (a patch, not the shooter's, seen from the shooter); the pass proper then tests
-// depth EQUAL and computes ΔL only there. llvmpipe runs every branch of a shader for every
-// fragment, but skips the shader for a group of fragments that all fail an early depth test: the
-// only way it has of not computing form factors for the texels the shooter cannot see.
+// MARK (defined by the host for a program of its own; see `Tuning::marking_pass`): the marking
+// pass, drawn over the same squares just before the pass proper. It runs the cheap tests only
+// and writes depth where a texel can receive (a patch, not the shooter's, seen from the shooter)
+// or shoots now; the pass proper (compiled with MARKED) then tests depth EQUAL and computes ΔL
+// only there. llvmpipe runs every branch of a shader for every fragment, but skips the shader
+// for a group of fragments that all fail an early depth test: the only way it has of not
+// computing form factors for the texels the shooter cannot see. Texels the pass proper does not
+// write keep what the renderbuffers hold: the last copy's values, which the textures hold too.
 #ifndef MARK
 #define MARK 0
 #endif
+#ifndef MARKED
+#define MARKED 0
+#endif
 
-// The pass proper: ΔL, added to the old values by blending (alpha, the ID, is kept). A texel
-// that would add nothing (receiving nothing) is discarded.
+// Does this patch receive from the shooter? Not a texel without a patch, not the shooter's own
+// polygon (a plane sends nothing to itself), and visible from the shooter.
+bool Receives(float patch)
+{
+    return patch != 0.0 && RecvId != ShooterId && Visible();
+}
+
 void main()
 {
     ivec2 texel = ivec2(gl_FragCoord.xy);
     vec4 position = texelFetch(PatchPosition, texel, 0);
     RecvPos = position.xyz;
     RecvId = position.w - 1.0;
+    bool shooting = all(greaterThanEqual(texel, ShooterTexels.xy)) && all(lessThan(texel, ShooterTexels.zw));
 #if MARK
-    // Not a patch; the shooter (it sends nothing to itself, and the host clears its unshot
-    // energy); hidden from the shooter.
-    if (position.w == 0.0 || RecvId == ShooterId || !Visible())
+    if (!shooting && !Receives(position.w))
         discard;
 #else
     RecvNormal = texelFetch(PatchNormal, texel, 0).xyz;
     RecvColor = texelFetch(PatchReflectance, texel, 0).rgb;
-    vec3 delta = FormFactorEnergy();
-    if (all(equal(delta, vec3(0.0))))
-        discard;
-    NewRadiosity = vec4(delta, 0.0);
-    NewUnshot = NewRadiosity;
+#if MARKED
+    // The marking pass found this texel visible (or shooting): no second visibility test.
+    vec3 delta = RecvId == ShooterId ? vec3(0.0) : FormFactorEnergy();
+    if (!shooting && all(equal(delta, vec3(0.0))))
+        discard;   // adds nothing: the renderbuffers keep the last copy's value
+#else
+    vec3 delta = Receives(position.w) ? FormFactorEnergy() : vec3(0.0);
+#endif
+    // GL_ADD: the lightmap texel plus the new energy (alpha, the polygon ID + 1, kept).
+    vec4 radiosity = texelFetch(LightmapRadiosity, texel, 0);
+    vec4 unshot = texelFetch(LightmapUnshot, texel, 0);
+    NewRadiosity = vec4(radiosity.rgb + delta, radiosity.a);
+    NewUnshot = vec4(shooting ? vec3(0.0) : unshot.rgb + delta, unshot.a);
 #endif
 }

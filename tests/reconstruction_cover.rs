@@ -7,7 +7,7 @@ mod common;
 
 use common::*;
 use gpu_radiosity::patches::{PatchLayout, Resolution};
-use gpu_radiosity::solver::GpuSolver;
+use gpu_radiosity::solver::{GpuSolver, Tuning};
 
 #[test]
 fn squares_drawn_as_points_or_triangles_give_the_same_lightmaps() {
@@ -63,8 +63,8 @@ fn skipping_needless_clipping_changes_nothing_but_float_noise() {
     // Blocks whose receivers all have the whole shooter above their plane are drawn with the
     // shader variant that does not clip it: the same contour integral, so the same lightmaps up
     // to float rounding.
-    on_both_rooms(|name, mut split, mut clipped| {
-        clipped.reconstruction.skip_needless_clipping = false;
+    let off = |t: &mut Tuning| t.skip_needless_clipping = false;
+    on_both_rooms(off, |name, mut split, mut clipped| {
         let (mut cheap, mut full) = (0, 0);
         for _ in 0..40 {
             let a = split.step().unwrap().unwrap();
@@ -99,8 +99,8 @@ fn programs_unrolled_for_quadrilaterals_give_the_same_lightmaps() {
     // Quadrilateral shooters are drawn with programs compiled for four corners (`CORNERS`):
     // the same sums in the same order as the loop over a corner count read at run time, so
     // the same lightmaps, bit for bit (measured on both rooms).
-    on_both_rooms(|name, mut unrolled, mut looped| {
-        looped.reconstruction.unroll_quads = false;
+    let off = |t: &mut Tuning| t.unroll_quads = false;
+    on_both_rooms(off, |name, mut unrolled, mut looped| {
         for _ in 0..40 {
             let a = unrolled.step().unwrap().unwrap();
             let b = looped.step().unwrap().unwrap();
@@ -121,9 +121,43 @@ fn programs_unrolled_for_quadrilaterals_give_the_same_lightmaps() {
     });
 }
 
-/// Run `check` on two solvers made alike, for the Cornell box with its default options (shooter
-/// cells) and for the simple room with the bench's.
-fn on_both_rooms(mut check: impl FnMut(&str, GpuSolver<'_>, GpuSolver<'_>)) {
+#[test]
+fn the_papers_passes_and_the_tuned_ones_give_the_same_lightmaps() {
+    // With every switch of `Tuning` off, each pass draws every patch and tests visibility in the
+    // one shader, as the paper does: the same answer as the tuned passes, up to float rounding
+    // (the variant that does not clip sums the same terms in another order).
+    on_both_rooms(
+        |t| *t = Tuning::none(),
+        |name, mut tuned, mut paper| {
+            for _ in 0..20 {
+                let a = tuned.step().unwrap().unwrap();
+                let b = paper.step().unwrap().unwrap();
+                assert_eq!(a.shooter, b.shooter, "{name}");
+            }
+            for (a, b) in [
+                (tuned.radiosity_atlas(), paper.radiosity_atlas()),
+                (tuned.unshot_atlas(), paper.unshot_atlas()),
+            ] {
+                let diff: f64 = a.iter().zip(&b).map(|(x, y)| (x - y).abs() as f64).sum();
+                let total: f64 = b.iter().map(|y| y.abs() as f64).sum();
+                assert!(total > 0.0, "{name}");
+                assert!(
+                    diff / total < 1e-6,
+                    "{name}: L1 difference {}",
+                    diff / total
+                );
+            }
+        },
+    );
+}
+
+/// Run `check` on two solvers made alike but for `tweak` applied to the second one's tuning,
+/// for the Cornell box with its default options (shooter cells) and for the simple room with the
+/// bench's.
+fn on_both_rooms(
+    tweak: impl Fn(&mut Tuning),
+    mut check: impl FnMut(&str, GpuSolver<'_>, GpuSolver<'_>),
+) {
     for (name, options) in [
         ("cornell", gpu_radiosity::solver::SolveOptions::default()),
         ("simple", gpu_radiosity::cli::bench::bench_options(0.01)),
@@ -134,8 +168,10 @@ fn on_both_rooms(mut check: impl FnMut(&str, GpuSolver<'_>, GpuSolver<'_>)) {
             .map_or(Resolution::Patches(4096), Resolution::PatchSize);
         let layout = PatchLayout::new(&scene, resolution);
         let ctx = context();
-        let a = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
-        let b = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
+        let mut tweaked = options.clone();
+        tweak(&mut tweaked.tuning);
+        let a = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
+        let b = GpuSolver::new(&ctx, &scene, &layout, tweaked).unwrap();
         check(name, a, b);
     }
 }

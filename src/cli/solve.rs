@@ -124,6 +124,7 @@ impl SolveArgs {
             form_factor: self.form_factor.unwrap_or(base.form_factor),
             visibility: self.visibility.unwrap_or(base.visibility),
             robust_visibility: base.robust_visibility,
+            tuning: base.tuning,
         }
     }
 }

@@ -287,6 +287,33 @@ impl Framebuffer {
             self.gl.bind_texture(glow::TEXTURE_2D, None);
         }
     }
+
+    /// Copy colour attachment 0 of this framebuffer into colour attachment `attachment` of
+    /// `target`, `width` × `height` texels from the origin, unfiltered.
+    pub fn blit_to(&self, target: &Framebuffer, attachment: u32, width: i32, height: i32) {
+        unsafe {
+            self.gl
+                .bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.raw));
+            self.gl.read_buffer(glow::COLOR_ATTACHMENT0);
+            self.gl
+                .bind_framebuffer(glow::DRAW_FRAMEBUFFER, Some(target.raw));
+            self.gl.draw_buffers(&[attachment]);
+            self.gl.disable(glow::SCISSOR_TEST);
+            self.gl.blit_framebuffer(
+                0,
+                0,
+                width,
+                height,
+                0,
+                0,
+                width,
+                height,
+                glow::COLOR_BUFFER_BIT,
+                glow::NEAREST,
+            );
+            self.gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+        }
+    }
 }
 
 impl Drop for Framebuffer {

@@ -150,6 +150,12 @@ impl Program {
                 .uniform_4_f32(self.location(name).as_ref(), v[0], v[1], v[2], v[3])
         }
     }
+    pub fn set_ivec4(&self, name: &'static str, v: [i32; 4]) {
+        unsafe {
+            self.gl
+                .uniform_4_i32(self.location(name).as_ref(), v[0], v[1], v[2], v[3])
+        }
+    }
     pub fn set_vec3_array(&self, name: &'static str, v: &[f32]) {
         unsafe { self.gl.uniform_3_f32_slice(self.location(name).as_ref(), v) }
     }

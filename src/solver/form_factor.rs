@@ -1,7 +1,8 @@
 //! Form factors on the CPU: the same formulas the reconstruction shader evaluates (tests hold the
 //! GPU against these, and the CPU solver uses them).
 //!
-//! - `point`: the paper's F = max(cos θ_i cos θ_j, 0) / (π r²), per unit shooter area.
+//! - `point`: the paper's F = cos θ_i cos θ_j / (π r²), per unit shooter area, each cosine
+//!   clamped at zero (a receiver behind the shooter or facing away gets nothing).
 //! - `polygon`: the exact factor from a differential receiver area to a polygon (Lambert's
 //!   contour formula), after clipping the polygon to the receiver's side of its tangent plane.
 //!   It stays finite however close the receiver is, which the point factor does not.
@@ -10,11 +11,14 @@ use glam::Vec3;
 use std::f32::consts::PI;
 
 /// Point-to-point kernel cos θ_i cos θ_j / (π r²): multiply by the shooter's area for a factor.
+/// Each cosine is clamped at zero on its own: a receiver behind the shooter's plane, or facing
+/// away from the shooter, gets nothing. (The paper clamps the product, max(cos θ_i cos θ_j, 0),
+/// which passes a receiver that is both: two negative cosines.)
 pub fn point(receiver: Vec3, receiver_normal: Vec3, shooter: Vec3, shooter_normal: Vec3) -> f32 {
     let r = shooter - receiver;
     let d2 = r.dot(r);
     let r = r / d2.sqrt();
-    (receiver_normal.dot(r) * -shooter_normal.dot(r)).max(0.0) / (PI * d2)
+    receiver_normal.dot(r).max(0.0) * (-shooter_normal.dot(r)).max(0.0) / (PI * d2)
 }
 
 /// One edge's term of Lambert's contour integral, corners `a` to `b` relative to the receiver:

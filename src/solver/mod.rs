@@ -12,9 +12,11 @@ pub mod mesh;
 pub mod progressive;
 pub mod reconstruction;
 pub mod shooters;
+pub mod tuning;
 pub mod visibility;
 
 pub use progressive::{GpuSolver, SolveError};
+pub use tuning::Tuning;
 
 use glam::{Mat4, Vec3};
 
@@ -63,6 +65,9 @@ pub struct SolveOptions {
     /// side of that polygon's plane). The paper tests the nearest pixel's ID only, which misses
     /// receivers smaller than a pixel and darkens joints where polygons meet.
     pub robust_visibility: bool,
+    /// Speed switches for llvmpipe that leave the answer as it is (`tuning.rs`); the paper's mode
+    /// turns them all off, so that its passes are the paper's.
+    pub tuning: Tuning,
 }
 
 impl SolveOptions {
@@ -79,6 +84,7 @@ impl SolveOptions {
             form_factor: FormFactorKind::Point,
             visibility: VisibilityKind::Hemisphere,
             robust_visibility: false,
+            tuning: Tuning::none(),
         }
     }
 
@@ -94,6 +100,7 @@ impl SolveOptions {
             form_factor: FormFactorKind::Polygon,
             visibility: VisibilityKind::Hemicube,
             robust_visibility: true,
+            tuning: Tuning::llvmpipe(),
             ..Self::paper()
         }
     }

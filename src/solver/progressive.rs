@@ -5,7 +5,8 @@
 //! while not converged:
 //!     shooter = Find_Max_Energy()              -- CPU, from the unshot atlas
 //!     visibility pass from the shooter         -- item buffer (texture attachment)
-//!     reconstruction pass over all receivers   -- ΔE = ρ·F·E (renderbuffer attachments)
+//!     reconstruction pass over all receivers   -- lightmap texels + ΔE, ΔE = ρ·F·E
+//!                                                 (into renderbuffer attachments)
 //!     copy the sums into the lightmaps         -- glCopyTexSubImage2D
 //!     (the shooter's unshot energy is cleared in the same pass)
 //! ```
@@ -35,6 +36,8 @@ pub enum SolveError {
         max: i32,
         suggest: f32,
     },
+    #[error("an atlas of {got} floats was given where the layout has {expected}")]
+    AtlasSize { expected: usize, got: usize },
     #[error("--tessellate {0} must be 0 (off) or a positive number of patch sizes")]
     Tessellation(f32),
     #[error("--hemi-res {res} is outside 16..={max}")]
@@ -140,9 +143,9 @@ impl<'a> GpuSolver<'a> {
 
         // Initialise: every patch's unshot energy is its emission.
         reconstruction.emit(ctx, &mesh)?;
-        let mut scratch = Vec::new();
-        reconstruction.read_unshot(&mut scratch);
         reconstruction.copy_into(ctx, &lightmaps)?;
+        let mut scratch = Vec::new();
+        lightmaps.unshot.read_f32(&mut scratch);
         let counted = EnergyTotals::sum(&scratch, n, None);
         // Equal shares of the polygon's area, so that Σ patch areas = polygon area exactly.
         let patch_area: Vec<f64> = scene
@@ -262,8 +265,13 @@ impl<'a> GpuSolver<'a> {
             let t = Instant::now();
             self.visibility.run(ctx, &self.visibility_mesh, shooter)?;
             let t1 = Instant::now();
-            self.reconstruction
-                .run(ctx, &self.visibility, shooter, &self.options)?;
+            self.reconstruction.run(
+                ctx,
+                &self.visibility,
+                &self.lightmaps,
+                shooter,
+                &self.options,
+            )?;
             let t2 = Instant::now();
             self.changed.extend_from_slice(&self.reconstruction.touched);
             self.reconstruction.copy_into(ctx, &self.lightmaps)?;
@@ -273,7 +281,8 @@ impl<'a> GpuSolver<'a> {
             self.passes += 1;
         }
         let t = Instant::now();
-        self.reconstruction.read_unshot(&mut self.scratch);
+        // Find_Max_Energy reads what the copies put into the unshot lightmap texture.
+        self.lightmaps.unshot.read_f32(&mut self.scratch);
         let t1 = Instant::now();
         self.changed.sort_unstable();
         self.changed.dedup();
@@ -316,6 +325,33 @@ impl<'a> GpuSolver<'a> {
         let mut out = Vec::new();
         self.lightmaps.radiosity.read_f32(&mut out);
         self.dense.move_atlas(&out, 4, self.layout)
+    }
+
+    /// Replace both lightmaps with atlases in the caller's layout (RGBA as `radiosity_atlas` and
+    /// `unshot_atlas` give them, alpha the polygon ID + 1), e.g. to resume a saved solve; the
+    /// unshot totals are read back from the new texture, so Find_Max_Energy picks from them.
+    pub fn load_atlases(&mut self, radiosity: &[f32], unshot: &[f32]) -> Result<(), SolveError> {
+        let texels = self.layout.atlas_width as usize * self.layout.atlas_height as usize * 4;
+        if radiosity.len() != texels || unshot.len() != texels {
+            return Err(SolveError::AtlasSize {
+                expected: texels,
+                got: radiosity.len().max(unshot.len()),
+            });
+        }
+        self.lightmaps
+            .radiosity
+            .upload_f32(&self.layout.move_atlas(radiosity, 4, &self.dense));
+        self.lightmaps
+            .unshot
+            .upload_f32(&self.layout.move_atlas(unshot, 4, &self.dense));
+        self.reconstruction.load_from(self.ctx, &self.lightmaps)?;
+        self.lightmaps.unshot.read_f32(&mut self.scratch);
+        self.totals = EnergyTotals::sum(
+            &self.scratch,
+            self.scene.polygons.len(),
+            Some(&self.patch_area),
+        );
+        Ok(())
     }
 
     /// The unshot radiance atlas as last read back, in the caller's layout (RGBA, alpha:

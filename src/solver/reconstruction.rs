@@ -1,35 +1,28 @@
 //! Reconstruction pass (paper 3.2.2): every receiver drawn orthographically onto its lightmap
 //! texels, into an FBO whose colour attachments are *renderbuffers* the size of the atlas. The
-//! fragment shader tests visibility against the item buffer and computes the form factor and the
-//! received energy; the results are copied into the lightmap textures with glCopyTexSubImage2D.
+//! fragment shader tests visibility against the item buffer, computes the form factor and the
+//! received energy, and adds it to the patch's current values, which it reads from the lightmap
+//! textures (the paper's GL_ADD); `copy_into` then copies the sums back into the lightmap
+//! textures with glCopyTexSubImage2D, where the next pass and Find_Max_Energy read them.
+//!
+//! ```text
+//!   lightmap textures ──sampled──▶ reconstruct.frag ──old + ΔL──▶ renderbuffers (FBO)
+//!          ▲                                                            │
+//!          └──────────────────── glCopyTexSubImage2D ◀─────────────────┘
+//! ```
 //!
 //! The receivers are rasterised once, at initialisation, into atlas textures holding each patch's
 //! position, normal and reflectance (`glsl/patchdata.frag`); every pass then draws squares of
-//! whole 4×4 texel blocks covering the lightmaps of the receivers (`cover`) and reads them.
-//! llvmpipe runs the whole shader on every block a primitive touches (its discards and branches
-//! skip nothing), so the cost of a pass is the number of blocks drawn: the solver's atlas has no
-//! gutters (`PatchLayout::without_gutters`) and each block is drawn once. Only receivers that can
-//! get anything are covered: some of the polygon in front of the shooter and some of the shooter
-//! in front of the polygon (the rest would add exactly zero, and do where a square reaches them).
+//! whole 4×4 texel blocks covering the lightmaps (`cover`) and reads them. With
+//! `Tuning::none()` (the paper's mode) every patch is drawn every pass, into renderbuffers
+//! cleared first. The speed switches of `Tuning` draw only the receivers' blocks, and run a
+//! marking pass so that only the texels the shooter sees compute form factors; the texels they
+//! leave alone keep the renderbuffers' values, which the last copy also put into the textures.
 //!
-//! The squares are drawn twice. First a marking pass (`MARK`) runs the visibility test alone and
-//! writes depth where a texel is seen from the shooter; then the form factors are computed with
-//! depth test EQUAL, which llvmpipe does before the shader and which lets it skip every group of
-//! 4×2 fragments that has no marked texel: about half of them, since a typical shooter sees a
-//! quarter of the texels drawn. The blocks whose polygons all have the whole shooter above their
-//! plane are drawn with a variant that does not clip it (`SHOOTER_ABOVE`), the rest with the
-//! full one; both are also compiled for quadrilateral shooters (`CORNERS`).
-//! The renderbuffers are never cleared after initialisation, so the texels not drawn keep what
-//! the last copy put into the textures: each copy still moves a whole, current atlas.
-//!
-//! Two attachments: 0 = radiosity + ΔL, 1 = unshot + ΔL (the shooter's own unshot cleared
-//! afterwards by a scissored, alpha-masked clear). The paper adds with GL_ADD; here additive
-//! blending adds ΔL to the renderbuffers, which hold the current lightmaps (they are never
-//! cleared, and each copy makes the textures equal to them), and the copies carry the sums into
-//! the lightmap textures. Blending instead of reading the old values as textures: the same float
-//! additions without two texel fetches per fragment.
+//! Two attachments: 0 = radiosity + ΔL, 1 = unshot + ΔL (zero for the texels that shoot).
 
 use super::mesh::ATTRIBUTES;
+use super::tuning::Tuning;
 use super::visibility::VisibilityPass;
 use super::{FormFactorKind, Shooter, SolveOptions, VisibilityKind, MAX_CORNERS};
 use crate::gl::objects::Attribute;
@@ -48,7 +41,7 @@ pub const INIT_NAME: &str = "initialisation";
 pub const COPY_NAME: &str = "accumulation";
 
 /// The two lightmap atlases of section 3.1: accumulated and unshot radiance (RGBA32F, alpha =
-/// polygon ID + 1), which the copies after each reconstruction pass replace.
+/// polygon ID + 1). The reconstruction pass samples them; the copies after it replace them.
 pub struct Lightmaps {
     pub radiosity: Texture,
     pub unshot: Texture,
@@ -82,8 +75,11 @@ struct PatchData {
 }
 
 pub struct ReconstructionPass {
-    /// The shader, clipping the shooter to each receiver's tangent plane: for any corner count,
-    /// and for quadrilateral shooters (`CORNERS`, unrolled: about 5 % less time per pass).
+    /// The shader as the paper has it: visibility, form factor and GL_ADD in one program, for any
+    /// corner count and for quadrilateral shooters (`CORNERS`).
+    literal: [Program; 2],
+    /// The same after a marking pass (`MARKED`: visibility already tested), clipping the shooter
+    /// to each receiver's tangent plane.
     program: [Program; 2],
     /// The same, compiled for receivers that have the whole shooter above that plane (no
     /// clipping: a third fewer shader instructions on llvmpipe; see `glsl/reconstruct.frag`).
@@ -110,12 +106,7 @@ pub struct ReconstructionPass {
     cover: Cover,
     /// How many of `square_vertices` draw with the clipping shader (the rest without).
     clipped_vertices: i32,
-    /// Draw the blocks whose receivers all have the shooter above them with the variant that
-    /// does not clip (on by default; off to compare).
-    pub skip_needless_clipping: bool,
-    /// Use the programs unrolled for quadrilateral shooters (on by default; off to compare).
-    pub unroll_quads: bool,
-    /// Passes drawn with them so far.
+    /// Passes drawn with the programs unrolled for quadrilateral shooters so far.
     pub quad_passes: u32,
     blocks_wide: usize,
     /// Largest square side drawn, texels (a power of two, at least `BLOCK`).
@@ -161,10 +152,12 @@ impl ReconstructionPass {
         let compile =
             |source: Source| Program::new(gl, glsl!("atlas.vert"), source, squares_in, outputs);
         let frag = || glsl!("reconstruct.frag");
-        let program = [compile(frag())?, compile(frag().define("CORNERS", 4))?];
+        let literal = [compile(frag())?, compile(frag().define("CORNERS", 4))?];
+        let marked = || frag().define("MARKED", 1);
+        let program = [compile(marked())?, compile(marked().define("CORNERS", 4))?];
         let above = [
-            compile(frag().define("SHOOTER_ABOVE", 1))?,
-            compile(frag().define("SHOOTER_ABOVE", 1).define("CORNERS", 4))?,
+            compile(marked().define("SHOOTER_ABOVE", 1))?,
+            compile(marked().define("SHOOTER_ABOVE", 1).define("CORNERS", 4))?,
         ];
         let marking = compile(frag().define("MARK", 1))?;
         let texels = layout.texel_rects();
@@ -254,6 +247,7 @@ impl ReconstructionPass {
         unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
         ctx.check(NAME)?;
         Ok(ReconstructionPass {
+            literal,
             program,
             above,
             marking,
@@ -266,8 +260,6 @@ impl ReconstructionPass {
             block_flags: vec![0; blocks],
             cover: Cover::default(),
             clipped_vertices: 0,
-            skip_needless_clipping: true,
-            unroll_quads: true,
             quad_passes: 0,
             blocks_wide,
             largest_square,
@@ -289,7 +281,7 @@ impl ReconstructionPass {
         })
     }
 
-    /// Bind the renderbuffers' FBO; `clear` zeroes them (initialisation only).
+    /// Bind the renderbuffers' FBO; `clear` zeroes them.
     fn begin(&self, ctx: &GlContext, clear: bool) {
         Self::target(
             ctx,
@@ -400,10 +392,11 @@ impl ReconstructionPass {
         ctx.check(INIT_NAME)
     }
 
-    /// The receivers to draw for `shooter`: the lightmaps of the polygons that can receive,
+    /// The receivers to draw for `shooter`: the lightmaps of the polygons that can receive
+    /// (every polygon with patches unless `tuning.receivers_only`) and the shooter's texels,
     /// covered by aligned squares of whole 4×4 blocks (`cover`), split by the shader that draws
     /// them; `touched` gets the receivers and the shooter.
-    fn select_receivers(&mut self, shooter: &Shooter) {
+    fn select_receivers(&mut self, shooter: &Shooter, tuning: &Tuning) {
         self.touched.clear();
         self.block_flags.fill(0);
         let corners = &shooter.corners[..shooter.corner_count.max(1)];
@@ -415,38 +408,45 @@ impl ReconstructionPass {
                 .fold(0.0, f32::max),
         );
         let bw = self.blocks_wide;
+        let mark = |flags: &mut [u8], [x0, y0, x1, y1]: [u32; 4], flag: u8| {
+            for by in y0 / BLOCK..y1.div_ceil(BLOCK) {
+                let row = by as usize * bw;
+                let blocks = row + (x0 / BLOCK) as usize..row + x1.div_ceil(BLOCK) as usize;
+                for f in &mut flags[blocks] {
+                    *f |= flag;
+                }
+            }
+        };
         for k in 0..self.with_patches.len() {
             let p = self.with_patches[k];
-            // The shooter sends nothing to itself: it is not drawn, but its unshot energy is
-            // cleared. Its texels are discarded wherever a block shared with a receiver is drawn.
-            if p == shooter.polygon {
-                self.touched.push(p);
-                continue;
-            }
-            let flag = match self.reception(p, shooter, reach) {
-                Reception::Nothing => NOT_RECEIVING,
-                Reception::ShooterAbove => SHOOTER_ABOVE,
-                Reception::Clipped => CLIPPED,
+            let flag = if !tuning.receivers_only {
+                CLIPPED
+            } else if p == shooter.polygon {
+                // The shooter sends nothing to itself: only its shooting texels are drawn.
+                0
+            } else {
+                match self.reception(p, shooter, reach) {
+                    Reception::Nothing => NOT_RECEIVING,
+                    Reception::ShooterAbove => SHOOTER_ABOVE,
+                    Reception::Clipped => CLIPPED,
+                }
             };
             if flag != NOT_RECEIVING {
                 self.touched.push(p);
             }
-            let [x0, y0, x1, y1] = self.texels[p];
-            for by in y0 / BLOCK..y1.div_ceil(BLOCK) {
-                let row = by as usize * bw;
-                for f in &mut self.block_flags
-                    [row + (x0 / BLOCK) as usize..row + x1.div_ceil(BLOCK) as usize]
-                {
-                    *f |= flag;
-                }
+            if flag != 0 {
+                mark(&mut self.block_flags, self.texels[p], flag);
             }
         }
-        // Only blocks that hold receivers are drawn; without clipping only where every polygon
-        // in the block has the shooter above it (a polygon that receives nothing must get its
-        // exact zero from the clipped factor).
-        let skip = self.skip_needless_clipping;
-        let above = |f: &u8| skip && *f == SHOOTER_ABOVE;
-        let clipped = |f: &u8| *f & (SHOOTER_ABOVE | CLIPPED) != 0 && !above(f);
+        // The shooting texels are drawn to clear their unshot energy.
+        mark(&mut self.block_flags, shooter.texels, SHOOTER);
+        // Only blocks that hold receivers or shooting texels are drawn; without clipping only
+        // where every other polygon in the block has the shooter above it (a polygon that
+        // receives nothing must get its exact zero from the clipped factor; the shooter's texels
+        // get zero from either).
+        let skip = tuning.skip_needless_clipping && tuning.marking_pass;
+        let above = |f: &u8| skip && *f & !SHOOTER == SHOOTER_ABOVE;
+        let clipped = |f: &u8| *f & (SHOOTER_ABOVE | CLIPPED | SHOOTER) != 0 && !above(f);
         self.square_vertices.clear();
         let (size, points) = (self.viewport, self.squares_as_points);
         let vertices = &mut self.square_vertices;
@@ -462,18 +462,25 @@ impl ReconstructionPass {
         self.squares.replace(&self.square_vertices, 3);
     }
 
-    /// One reconstruction: ΔL for every patch from `shooter`, added into the two renderbuffers
-    /// (radiosity and unshot), the shooter's unshot energy cleared.
+    /// One reconstruction: for every patch drawn, its radiance and unshot radiance read from the
+    /// lightmap textures plus ΔL from `shooter`, written into the two renderbuffers; the shooting
+    /// texels' unshot radiance zero. `copy_into` then carries the result into the textures.
     pub fn run(
         &mut self,
         ctx: &GlContext,
         visibility: &VisibilityPass,
+        lightmaps: &Lightmaps,
         shooter: &Shooter,
         options: &SolveOptions,
     ) -> Result<(), GlError> {
-        self.select_receivers(shooter);
-        self.begin(ctx, false);
+        let tuning = options.tuning;
+        self.select_receivers(shooter, &tuning);
+        // When every texel is recomputed from the textures this pass, nothing of the last pass
+        // stays in the renderbuffers.
+        self.begin(ctx, tuning.writes_every_texel());
         visibility.item_buffer.bind(0);
+        lightmaps.radiosity.bind(1);
+        lightmaps.unshot.bind(2);
         self.planes.bind(3);
         self.patches.position.bind(4);
         self.patches.normal.bind(5);
@@ -496,6 +503,9 @@ impl ReconstructionPass {
             p.set_i32("PatchPosition", 4);
             p.set_i32("PatchNormal", 5);
             p.set_i32("PatchReflectance", 6);
+            p.set_i32("LightmapRadiosity", 1);
+            p.set_i32("LightmapUnshot", 2);
+            p.set_ivec4("ShooterTexels", shooter.texels.map(|t| t as i32));
             p.set_i32("HemiItemBuffer", 0);
             p.set_mat4("ShooterView", &shooter.view().to_cols_array());
             p.set_vec3("ShootPos", shooter.position.to_array());
@@ -525,35 +535,34 @@ impl ReconstructionPass {
             glow::TRIANGLES
         };
         let total = self.squares.vertex_count;
-        // Marking: depth 1 cleared, the squares' depth (½) written where a texel can receive,
-        // nothing else.
-        unsafe {
-            gl.depth_mask(true);
-            gl.clear_depth_f64(1.0);
-            gl.clear(glow::DEPTH_BUFFER_BIT);
-            gl.enable(glow::DEPTH_TEST);
-            gl.depth_func(glow::ALWAYS);
-            gl.color_mask(false, false, false, false);
+        if tuning.marking_pass {
+            // Marking: depth 1 cleared, the squares' depth (½) written where a texel can
+            // receive or shoots, nothing else; the pass proper then shades those texels only.
+            unsafe {
+                gl.depth_mask(true);
+                gl.clear_depth_f64(1.0);
+                gl.clear(glow::DEPTH_BUFFER_BIT);
+                gl.enable(glow::DEPTH_TEST);
+                gl.depth_func(glow::ALWAYS);
+                gl.color_mask(false, false, false, false);
+            }
+            uniforms(&self.marking);
+            self.squares.draw_arrays(mode, 0, total);
+            unsafe {
+                gl.depth_func(glow::EQUAL);
+                gl.depth_mask(false);
+                gl.color_mask(true, true, true, true);
+            }
         }
-        uniforms(&self.marking);
-        self.squares.draw_arrays(mode, 0, total);
-        // The pass proper on the marked texels: ΔL added to both attachments, their alpha (the
-        // ID) kept.
-        unsafe {
-            gl.depth_func(glow::EQUAL);
-            gl.depth_mask(false);
-            gl.color_mask(true, true, true, true);
-            gl.enable(glow::BLEND);
-            gl.blend_equation(glow::FUNC_ADD);
-            gl.blend_func_separate(glow::ONE, glow::ONE, glow::ZERO, glow::ONE);
-        }
-        let quad = (self.unroll_quads && shooter.corner_count == 4) as usize;
+        let quad = (tuning.unroll_quads && shooter.corner_count == 4) as usize;
         self.quad_passes += quad as u32;
+        let (clipping, not_clipping) = if tuning.marking_pass {
+            (&self.program[quad], &self.above[quad])
+        } else {
+            (&self.literal[quad], &self.literal[quad])
+        };
         let split = self.clipped_vertices;
-        for (p, first, count) in [
-            (&self.program[quad], 0, split),
-            (&self.above[quad], split, total - split),
-        ] {
+        for (p, first, count) in [(clipping, 0, split), (not_clipping, split, total - split)] {
             if count > 0 {
                 uniforms(p);
                 self.squares.draw_arrays(mode, first, count);
@@ -561,15 +570,7 @@ impl ReconstructionPass {
         }
         unsafe {
             gl.disable(glow::PROGRAM_POINT_SIZE);
-            gl.disable(glow::BLEND);
             gl.disable(glow::DEPTH_TEST);
-            // The shooter's texels have shot: clear their unshot energy (paper: "清零"), RGB
-            // only (alpha is the ID; the texels that are no patch hold zero already).
-            let [x0, y0, x1, y1] = shooter.texels.map(|v| v as i32);
-            gl.scissor(x0, y0, x1 - x0, y1 - y0);
-            gl.color_mask_draw_buffer(1, true, true, true, false);
-            gl.clear_buffer_f32_slice(glow::COLOR, 1, &[0.0; 4]);
-            gl.color_mask_draw_buffer(1, true, true, true, true);
             gl.disable(glow::SCISSOR_TEST);
             gl.active_texture(glow::TEXTURE0);
         }
@@ -590,10 +591,19 @@ impl ReconstructionPass {
         &self.texels
     }
 
-    /// Read the new unshot atlas (attachment 1) for Find_Max_Energy.
-    pub fn read_unshot(&self, out: &mut Vec<f32>) {
-        self.fbo
-            .read_f32(glow::COLOR_ATTACHMENT1, self.width, self.height, out);
+    /// Make the renderbuffers hold what `lightmaps` hold, after the textures were replaced from
+    /// outside (`GpuSolver::load_atlases`): the tuned passes leave the texels they do not draw as
+    /// the renderbuffers have them.
+    pub fn load_from(&self, ctx: &GlContext, lightmaps: &Lightmaps) -> Result<(), GlError> {
+        let source = Framebuffer::new(&ctx.gl)?;
+        for (attachment, texture) in [
+            (glow::COLOR_ATTACHMENT0, &lightmaps.radiosity),
+            (glow::COLOR_ATTACHMENT1, &lightmaps.unshot),
+        ] {
+            source.attach_texture(glow::COLOR_ATTACHMENT0, texture);
+            source.blit_to(&self.fbo, attachment, self.width, self.height);
+        }
+        ctx.check(COPY_NAME)
     }
 
     /// The paper's accumulation: glCopyTexSubImage2D from the renderbuffers into the lightmaps.
@@ -628,10 +638,11 @@ fn push_square(vertices: &mut Vec<f32>, points: bool, size: (i32, i32), x: u32, 
 }
 
 /// Block flags: a polygon that receives with clipping, one that has the whole shooter above it,
-/// one that receives nothing.
+/// one that receives nothing; texels that shoot.
 const CLIPPED: u8 = 1;
 const SHOOTER_ABOVE: u8 = 2;
 const NOT_RECEIVING: u8 = 4;
+const SHOOTER: u8 = 8;
 
 /// What a receiver gets from a shooter (see `ReconstructionPass::reception`).
 enum Reception {
