@@ -1,4 +1,4 @@
-//! The command-line contract (CONVENTIONS.md): outputs, stats.json, backends, and clear errors.
+//! The command-line contract (docs/conventions.md): outputs, stats.json, backends, clear errors.
 
 mod common;
 
@@ -57,7 +57,7 @@ fn solve_without_arguments_writes_the_cornell_box() {
         assert!(history[0].get(key).is_some(), "history entries lack {key}");
     }
 
-    // The picture: red wall on the left, green on the right (CONVENTIONS.md's camera).
+    // The picture: red wall on the left, green on the right (docs/conventions.md's camera).
     let png = image::open(out_dir.join("image.png")).unwrap().to_rgb8();
     assert_eq!(png.dimensions(), (512, 512));
     let mean = |x0: u32, x1: u32, y0: u32, y1: u32| {

@@ -72,7 +72,7 @@ fn the_generator_reproduces_the_committed_files() {
 
 #[test]
 fn the_committed_rooms_have_the_papers_counts() {
-    // Table 1 of the paper (CONVENTIONS.md).
+    // Table 1 of the paper (docs/conventions.md).
     for (room, faces, vertices, lights, patch_count) in [
         (Room::Simple, 1_602, 6_431, 2, 14_445),
         (Room::Complex, 8_549, 35_785, 6, 86_077),

@@ -1,4 +1,4 @@
-//! The bundled scenes load as CONVENTIONS.md describes them, and their patches are laid out
+//! The bundled scenes load as docs/conventions.md describes them, and their patches are laid out
 //! consistently (the CPU's patch map is the one the GPU rasterises).
 
 mod common;

@@ -70,7 +70,7 @@ struct Report {
 /// with the accurate mode's form factor and visibility, which stay stable on these rooms (the
 /// paper's point factor creates energy between close polygons and never converges here).
 ///
-/// The hemicube is 128² per face, chosen by measurement on the simple room (README, "Table 1"):
+/// The hemicube is 128² per face, chosen by measurement on the simple room (docs/accuracy.md):
 /// against the CPU solver's exact ray casts the mean patch difference is 3.3 % at 64², 1.5 % at
 /// 128², 1.1 % at 192² and at 256², while the visibility pass costs about twice as much at 256²
 /// as at 128². A 128² face pixel at the room's typical 2.5 m is 4 cm, a third of a patch.

@@ -220,7 +220,7 @@ pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
-/// Everything `stats.json` holds (the contract in CONVENTIONS.md, plus timings and settings).
+/// Everything `stats.json` holds (the contract in docs/conventions.md, plus timings and settings).
 #[derive(serde::Serialize)]
 pub struct Stats {
     pub scene: String,

@@ -13,7 +13,7 @@ use crate::scene::Camera;
 use glam::Mat4;
 
 /// View-projection of a standard right-handed look-at camera (world +x appears on the left when
-/// looking down +z, as CONVENTIONS.md says of the Cornell box).
+/// looking down +z, as docs/conventions.md says of the Cornell box).
 pub fn view_projection(camera: &Camera, aspect: f32, near: f32, far: f32) -> Mat4 {
     let view = Mat4::look_at_rh(camera.eye, camera.target, camera.up);
     let projection = Mat4::perspective_rh_gl(camera.fov_y.to_radians(), aspect, near, far);

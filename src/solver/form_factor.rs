@@ -76,7 +76,7 @@ pub fn polygon(x: Vec3, n: Vec3, corners: &[Vec3], polygon_normal: Vec3) -> f32 
 mod tests {
     use super::*;
 
-    /// CONVENTIONS.md: differential area parallel to a rectangle, normal through a corner.
+    /// docs/conventions.md: differential area parallel to a rectangle, normal through a corner.
     fn corner_factor(a: f32, b: f32, c: f32) -> f32 {
         let (aa, bb) = (a / c, b / c);
         let (sa, sb) = ((1.0 + aa * aa).sqrt(), (1.0 + bb * bb).sqrt());

@@ -138,7 +138,7 @@ fn point_factor(
     Ok(rgb_mean(texels[0]))
 }
 
-/// Single-shot configuration factors against the closed forms of CONVENTIONS.md.
+/// Single-shot configuration factors against the closed forms of docs/conventions.md.
 pub fn form_factor_checks(
     ctx: &GlContext,
     mode: &'static str,
