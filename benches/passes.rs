@@ -93,7 +93,7 @@ fn passes(c: &mut Criterion) {
         })
     });
     let mut cpu = CpuSolver::new(&scene, &layout, options.clone(), 0).unwrap();
-    group.bench_function("CPU shot", |b| b.iter(|| cpu.shoot(&shooters)));
+    group.bench_function("CPU shot", |b| b.iter(|| cpu.shoot(&shooters).unwrap()));
     group.finish();
 }
 

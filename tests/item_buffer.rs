@@ -40,7 +40,7 @@ fn compare(
     assert_eq!(shooters.len(), 1, "paper mode: one shooter per polygon");
     let shooter = shooters[0];
     solver.shoot(&shooters).unwrap();
-    let ids = solver.visibility.read_ids();
+    let ids = solver.backend().visibility.read_ids();
     let faces = if visibility == VisibilityKind::Hemicube {
         5
     } else {

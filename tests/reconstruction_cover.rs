@@ -18,10 +18,10 @@ fn squares_drawn_as_points_or_triangles_give_the_same_lightmaps() {
     let mut points = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
     let mut triangles = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
     assert!(
-        points.reconstruction.squares_as_points,
+        points.backend().reconstruction.squares_as_points,
         "llvmpipe draws wide points"
     );
-    triangles.reconstruction.squares_as_points = false;
+    triangles.backend_mut().reconstruction.squares_as_points = false;
     for _ in 0..40 {
         let a = points.step().unwrap().unwrap();
         let b = triangles.step().unwrap().unwrap();
@@ -70,10 +70,10 @@ fn skipping_needless_clipping_changes_nothing_but_float_noise() {
             let a = split.step().unwrap().unwrap();
             let b = clipped.step().unwrap().unwrap();
             assert_eq!(a.shooter, b.shooter, "{name}");
-            let (c, u) = split.reconstruction.squares_drawn();
+            let (c, u) = split.backend().reconstruction.squares_drawn();
             full += c;
             cheap += u;
-            assert_eq!(clipped.reconstruction.squares_drawn().1, 0);
+            assert_eq!(clipped.backend().reconstruction.squares_drawn().1, 0);
         }
         assert!(
             cheap > 0 && full > 0,
@@ -107,10 +107,10 @@ fn programs_unrolled_for_quadrilaterals_give_the_same_lightmaps() {
             assert_eq!(a.shooter, b.shooter, "{name}");
         }
         assert!(
-            unrolled.reconstruction.quad_passes > 0,
+            unrolled.backend().reconstruction.quad_passes > 0,
             "{name}: no quadrilateral shooter"
         );
-        assert_eq!(looped.reconstruction.quad_passes, 0);
+        assert_eq!(looped.backend().reconstruction.quad_passes, 0);
         let (a, b) = (unrolled.radiosity_atlas(), looped.radiosity_atlas());
         assert!(a.iter().any(|&v| v > 0.0), "{name}");
         assert!(

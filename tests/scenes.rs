@@ -88,7 +88,11 @@ fn the_gpu_rasterises_exactly_the_cpu_patches() {
         let scene = load(name);
         let layout = PatchLayout::new(&scene, Resolution::Patches(3000));
         let solver = GpuSolver::new(&ctx, &scene, &layout, SolveOptions::default()).unwrap();
-        assert_eq!(solver.gpu_patches, layout.patches_per_polygon, "{name}");
+        assert_eq!(
+            solver.ledger().patches(),
+            layout.patches_per_polygon,
+            "{name}"
+        );
         // And the texels themselves: alpha carries the polygon ID + 1.
         let atlas = solver.radiosity_atlas();
         let gpu_owner: Vec<u32> = atlas.chunks_exact(4).map(|t| t[3] as u32).collect();

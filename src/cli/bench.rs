@@ -153,7 +153,7 @@ pub fn run_bench(args: &BenchArgs) -> Result<()> {
             bar.set_message(format!("{name}: CPU"));
             let t = Instant::now();
             let mut cpu = CpuSolver::new(&scene, &layout, options.clone(), args.threads)?;
-            cpu.solve(|_| {});
+            cpu.solve(|_| {})?;
             cpu_times.push(t.elapsed().as_secs_f64());
             shots.1 = cpu.shots();
             bar.inc(1);

@@ -155,7 +155,7 @@ struct Solved {
     passes: u32,
     unshot_fraction: f64,
     emitted_power: f64,
-    pass_seconds: Option<crate::solver::progressive::PassTimes>,
+    pass_seconds: Option<crate::solver::PassTimes>,
     history: Vec<ShotRecord>,
 }
 
@@ -164,13 +164,13 @@ impl Solved {
         Solved {
             atlas: s.radiosity_atlas(),
             unshot: s.unshot_atlas().to_vec(),
-            patch_area: (0..s.gpu_patches.len()).map(|p| s.patch_area(p)).collect(),
+            patch_area: s.patch_areas().to_vec(),
             shots: s.shots(),
-            passes: s.passes,
+            passes: s.passes(),
             unshot_fraction: s.unshot_fraction(),
             emitted_power: s.emitted_power(),
-            pass_seconds: Some(s.times.clone()),
-            history: s.history.clone(),
+            pass_seconds: Some(s.times().clone()),
+            history: s.history().to_vec(),
         }
     }
 
@@ -180,11 +180,11 @@ impl Solved {
             unshot: s.unshot_atlas().to_vec(),
             patch_area: s.patch_areas().to_vec(),
             shots: s.shots(),
-            passes: s.passes,
+            passes: s.passes(),
             unshot_fraction: s.unshot_fraction(),
             emitted_power: s.emitted_power(),
             pass_seconds: None,
-            history: s.history.clone(),
+            history: s.history().to_vec(),
         }
     }
 }
@@ -250,7 +250,7 @@ pub struct Stats {
     /// The ambient radiance added to the images (with --ambient), RGB.
     pub ambient: Option<[f32; 3]>,
     /// Seconds per GPU pass (the GPU solver only).
-    pub pass_seconds: Option<crate::solver::progressive::PassTimes>,
+    pub pass_seconds: Option<crate::solver::PassTimes>,
     pub history: Vec<ShotRecord>,
 }
 
@@ -339,7 +339,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
                 bail!("--dump-passes pictures the GPU passes: use it with --solver gpu");
             }
             let mut solver = CpuSolver::new(&scene, &layout, options.clone(), args.threads)?;
-            solver.solve(progress);
+            solver.solve(progress)?;
             Solved::from_cpu(&solver)
         }
     };

@@ -102,7 +102,7 @@ impl PassDumps {
         let delta_exposure = auto_exposure(&delta);
 
         let mut files = Vec::new();
-        let vis = &solver.visibility;
+        let vis = &solver.backend().visibility;
         let (iw, ih) = (vis.item_buffer.width as u32, vis.item_buffer.height as u32);
         let ids = vis.read_ids();
         let path = name("itembuffer.png");

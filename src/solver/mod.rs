@@ -1,13 +1,19 @@
-//! The solver: progressive refinement radiosity as in section 3.2 of the paper, on the GPU.
+//! The solver: progressive refinement radiosity as in section 3.2 of the paper.
 //!
-//! `progressive.rs` is the loop in the paper's order; each step is its own file:
-//! `find_max_energy.rs` (choose the shooter on the CPU), `visibility.rs` (item buffer from the
-//! shooter), `reconstruction.rs` (form factors and received energy per patch, accumulation).
-//! `mesh.rs` builds the one vertex buffer every pass draws.
+//! `progressive.rs` is the loop in the paper's order, written once ([`Solver`]) over a
+//! [`Backend`] that does the passes: `gpu.rs` on OpenGL as the paper does, `cpu/` in Rust with
+//! exact visibility. `ledger.rs` keeps the books both share (unshot totals, areas, stopping rule,
+//! history, pass timers). Each step has its own file: `find_max_energy.rs` (choose the shooter),
+//! `shooters.rs` (the shooter's cells), `visibility.rs` (item buffer from the shooter),
+//! `reconstruction.rs` (form factors and received energy per patch, accumulation),
+//! `form_factor.rs` (the CPU twins of the shader's factors). `mesh.rs` builds the vertex data
+//! the passes draw; `tuning.rs` holds every speed trick for llvmpipe, apart from the paper.
 
 pub mod cpu;
 pub mod find_max_energy;
 pub mod form_factor;
+pub mod gpu;
+pub mod ledger;
 pub mod mesh;
 pub mod progressive;
 pub mod reconstruction;
@@ -15,8 +21,48 @@ pub mod shooters;
 pub mod tuning;
 pub mod visibility;
 
-pub use progressive::{GpuSolver, SolveError};
+pub use cpu::CpuSolver;
+pub use gpu::GpuSolver;
+pub use ledger::{Ledger, PassTimes};
+pub use progressive::{Backend, Solver};
 pub use tuning::Tuning;
+
+use crate::gl::GlError;
+
+/// Why a solve cannot start or go on. The messages speak of the solver's settings (patch size,
+/// item-buffer resolution, tessellation); the command line adds its flags.
+#[derive(Debug, thiserror::Error)]
+pub enum SolveError {
+    #[error(transparent)]
+    Gl(#[from] GlError),
+    #[error(
+        "the lightmap atlas needs {width}x{height} texels but this driver allows at most \
+         {max}x{max} (GL_MAX_TEXTURE_SIZE / GL_MAX_RENDERBUFFER_SIZE); use a larger patch size \
+         (about {suggest} scene units or more) or fewer patches"
+    )]
+    AtlasTooLarge {
+        width: u32,
+        height: u32,
+        max: i32,
+        suggest: f32,
+    },
+    #[error("the tessellation {0} must be 0 (off) or a positive number of patch sizes")]
+    Tessellation(f32),
+    #[error("the item-buffer resolution {res} is outside 16..={max}")]
+    HemiRes { res: u32, max: i32 },
+    #[error(
+        "the emitters have no patches at this patch size ({patch_size} scene units): a light \
+         smaller than a patch emits nothing; use a smaller patch size or more patches"
+    )]
+    NoEmission { patch_size: f32 },
+    #[error("cannot start {threads} worker threads: {source}")]
+    Threads {
+        threads: usize,
+        source: rayon::ThreadPoolBuildError,
+    },
+    #[error("an atlas of {got} floats was given where the layout has {expected}")]
+    AtlasSize { expected: usize, got: usize },
+}
 
 use glam::{Mat4, Vec3};
 

@@ -388,7 +388,7 @@ fn draw(v: &mut Viewer, ctx: &GlContext, scene: &Scene, s: &Session) -> Result<(
     let history = std::iter::once([0.0, 1.0])
         .chain(
             solver
-                .history
+                .history()
                 .iter()
                 .map(|r| [r.shot as f64, r.unshot_fraction]),
         )
@@ -400,16 +400,16 @@ fn draw(v: &mut Viewer, ctx: &GlContext, scene: &Scene, s: &Session) -> Result<(
         window_api: v.window.api_name(),
         mode: s.mode,
         patch_size: s.layout.patch_size,
-        patches: solver.gpu_patches.iter().map(|&n| n as u64).sum(),
+        patches: solver.ledger().patches().iter().map(|&n| n as u64).sum(),
         atlas: (s.layout.atlas_width, s.layout.atlas_height),
         shots: solver.shots(),
-        passes: solver.passes,
+        passes: solver.passes(),
         unshot_fraction: solver.unshot_fraction(),
         converged: solver.converged(),
         last_shooter: named(s.last_shooter()),
         next_shooter: named(s.next_shooter()),
-        times: &solver.times,
-        solve_seconds: solver.history.last().map_or(0.0, |r| r.seconds),
+        times: solver.times(),
+        solve_seconds: solver.history().last().map_or(0.0, |r| r.seconds),
         fps: v.fps,
         draw_ms: v.draw_ms,
         history,

@@ -3,7 +3,7 @@
 
 use super::overlays::OverlaySet;
 use super::ViewMode;
-use crate::solver::progressive::PassTimes;
+use crate::solver::{progressive, PassTimes};
 use egui_plot::{HLine, Line, LineStyle, Plot, PlotPoints};
 
 /// Width of the panel in points.
@@ -167,12 +167,24 @@ fn readout(ui: &mut egui::Ui, r: &Readout) {
         row("last shooter", name(r.last_shooter));
         row("next shooter", name(r.next_shooter));
         row("solve time", format!("{:.2} s", r.solve_seconds));
-        row("visibility pass", ms(t.visibility, r.passes));
-        row("reconstruction pass", ms(t.reconstruction, r.passes));
-        row("accumulation copy", ms(t.accumulation, r.passes));
+        row(
+            "visibility pass",
+            ms(t.get(progressive::VISIBILITY), r.passes),
+        );
+        row(
+            "reconstruction pass",
+            ms(t.get(progressive::RECONSTRUCTION), r.passes),
+        );
+        row(
+            "accumulation copy",
+            ms(t.get(progressive::ACCUMULATION), r.passes),
+        );
         row(
             "readback + max energy",
-            ms(t.readback + t.find_max_energy, r.shots),
+            ms(
+                t.get(progressive::READBACK) + t.get(progressive::FIND_MAX_ENERGY),
+                r.shots,
+            ),
         );
         row("frames per second", format!("{:.1}", r.fps));
         row("frame draw time", format!("{:.1} ms", r.draw_ms));

@@ -104,7 +104,7 @@ impl<'a> Session<'a> {
 
     /// The polygon whose item buffer is shown: the last shot's shooter.
     pub fn last_shooter(&self) -> Option<usize> {
-        self.solver.history.last().map(|r| r.shooter)
+        self.solver.history().last().map(|r| r.shooter)
     }
 
     /// The polygon Find_Max_Energy picks for the next shot (none once converged).
@@ -132,7 +132,7 @@ impl<'a> Session<'a> {
         let (last, next) = (id(self.last_shooter()), id(self.next_shooter()));
         let (w, h) = (self.layout.atlas_width, self.layout.atlas_height);
         self.display
-            .run(ctx, self.solver.mesh(), vp, None, view, |p| {
+            .run(ctx, self.solver.backend().mesh(), vp, None, view, |p| {
                 self.unshot.bind(1);
                 p.set_i32("Unshot", 1);
                 p.set_vec2("AtlasSize", [w as f32, h as f32]);
@@ -156,7 +156,7 @@ impl<'a> Session<'a> {
         exposure: f32,
     ) -> Result<(), GlError> {
         if overlays.item_buffer && self.last_shooter().is_some() {
-            let item = &self.solver.visibility.item_buffer;
+            let item = &self.solver.backend().visibility.item_buffer;
             if let Some(rect) = inset_rect(view, (item.width, item.height), true) {
                 insets.draw(ctx, item, Inset::ItemBuffer, rect)?;
             }

@@ -7,65 +7,58 @@
 pub mod reconstruction;
 pub mod visibility;
 
-use super::find_max_energy::EnergyTotals;
-use super::{shooters, Shooter, ShotRecord, SolveOptions};
+use super::progressive::{Backend, Solver};
+use super::{Shooter, SolveError, SolveOptions};
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
 use glam::Vec3;
 use rayon::prelude::*;
 use reconstruction::Receiver;
-use std::time::Instant;
 use visibility::Bvh;
 
-#[derive(Debug, thiserror::Error)]
-pub enum CpuError {
-    #[error("cannot start {threads} worker threads: {source}")]
-    Threads {
-        threads: usize,
-        source: rayon::ThreadPoolBuildError,
-    },
-    #[error(
-        "the emitters have no patches at this patch size ({size} scene units): a light smaller \\
-         than a patch emits nothing; use a smaller --patch-size or more --patches"
-    )]
-    NoEmission { size: f32 },
-}
+/// Progressive refinement on the CPU.
+pub type CpuSolver<'a> = Solver<'a, CpuBackend<'a>>;
 
-pub struct CpuSolver<'a> {
-    scene: &'a Scene,
+/// The CPU's lightmaps, receivers and shadow-ray BVH.
+pub struct CpuBackend<'a> {
     layout: &'a PatchLayout,
-    options: SolveOptions,
+    form_factor: super::FormFactorKind,
     bvh: Bvh,
     receivers: Vec<Receiver>,
+    /// ΔL of every receiver from the current shooter.
     deltas: Vec<Vec3>,
     radiosity: Vec<f32>,
     unshot: Vec<f32>,
-    patch_area: Vec<f64>,
-    totals: EnergyTotals,
-    /// Lightmap rectangles [x0, y0, x1, y1) per polygon; which polygons a shot changed.
-    texels: Vec<[u32; 4]>,
+    /// Which polygons the current shot changed.
     marked: Vec<bool>,
-    changed: Vec<usize>,
-    emitted_power: f64,
-    shots: u32,
-    pub passes: u32,
-    started: Instant,
-    pub history: Vec<ShotRecord>,
     pool: rayon::ThreadPool,
 }
 
-impl<'a> CpuSolver<'a> {
-    /// `threads`: worker threads (0: one per core).
+impl<'a> Solver<'a, CpuBackend<'a>> {
+    /// The CPU solver for `scene` laid out as `layout`, on `threads` worker threads (0: one per
+    /// core); every patch's unshot energy starts as its emission.
     pub fn new(
         scene: &'a Scene,
         layout: &'a PatchLayout,
         options: SolveOptions,
         threads: usize,
-    ) -> Result<Self, CpuError> {
+    ) -> Result<Self, SolveError> {
+        let backend = CpuBackend::new(scene, layout, &options, threads)?;
+        Solver::start(scene, layout, options, backend)
+    }
+}
+
+impl<'a> CpuBackend<'a> {
+    fn new(
+        scene: &Scene,
+        layout: &'a PatchLayout,
+        options: &SolveOptions,
+        threads: usize,
+    ) -> Result<Self, SolveError> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
-            .map_err(|source| CpuError::Threads { threads, source })?;
+            .map_err(|source| SolveError::Threads { threads, source })?;
         let n = layout.atlas_width as usize * layout.atlas_height as usize;
         let (mut radiosity, mut receivers) = (vec![0f32; n * 4], Vec::new());
         for (texel, &owner) in layout.owner.iter().enumerate() {
@@ -99,167 +92,91 @@ impl<'a> CpuSolver<'a> {
             ]);
         }
         let unshot = radiosity.clone();
-        let patch_area: Vec<f64> = scene
-            .polygons
-            .iter()
-            .zip(&layout.patches_per_polygon)
-            .map(|(p, &k)| if k > 0 { p.area as f64 / k as f64 } else { 0.0 })
-            .collect();
-        let totals = EnergyTotals::sum(&unshot, scene.polygons.len(), Some(&patch_area));
-        let emitted_power = totals.total_power();
-        if emitted_power <= 0.0 {
-            return Err(CpuError::NoEmission {
-                size: layout.patch_size,
-            });
-        }
-        Ok(CpuSolver {
-            scene,
+        Ok(CpuBackend {
             layout,
-            options,
+            form_factor: options.form_factor,
             bvh: Bvh::new(scene),
             deltas: vec![Vec3::ZERO; receivers.len()],
             receivers,
             radiosity,
             unshot,
-            patch_area,
-            totals,
-            texels: layout.texel_rects(),
             marked: vec![false; scene.polygons.len()],
-            changed: Vec::new(),
-            emitted_power,
-            shots: 0,
-            passes: 0,
-            started: Instant::now(),
-            history: Vec::new(),
             pool,
         })
     }
+}
 
-    pub fn shots(&self) -> u32 {
-        self.shots
+impl Backend for CpuBackend<'_> {
+    fn layout(&self) -> &PatchLayout {
+        self.layout
     }
 
-    pub fn emitted_power(&self) -> f64 {
-        self.emitted_power
-    }
-
-    pub fn unshot_fraction(&self) -> f64 {
-        self.totals.total_power() / self.emitted_power
-    }
-
-    pub fn converged(&self) -> bool {
-        self.unshot_fraction() <= self.options.threshold as f64
-            || self.shots >= self.options.max_shots
-    }
-
-    pub fn next_polygon(&self) -> Option<usize> {
-        self.totals.find_max_energy(0.0)
-    }
-
-    pub fn shooters_of(&self, p: usize) -> Vec<Shooter> {
-        shooters::shooters_of(
-            self.scene,
-            self.layout,
-            &self.options,
-            &self.unshot,
-            &self.patch_area,
-            &self.totals,
-            p,
-        )
-    }
-
-    pub fn step(&mut self) -> Option<ShotRecord> {
-        if self.converged() {
-            return None;
-        }
-        let p = self.next_polygon()?;
-        let shooters = self.shooters_of(p);
-        Some(self.shoot(&shooters))
-    }
-
-    /// One shot of one polygon from each of `shooters` in turn.
-    pub fn shoot(&mut self, shooters: &[Shooter]) -> ShotRecord {
-        let polygon = shooters.first().map(|s| s.polygon).unwrap_or(0);
-        let before = self.totals.total_power();
-        let shot_power: f64 = shooters.iter().map(|s| s.power()).sum();
-        let kind = self.options.form_factor;
-        for shooter in shooters {
-            let (bvh, receivers) = (&self.bvh, &self.receivers);
-            self.pool.install(|| {
-                self.deltas
-                    .par_iter_mut()
-                    .zip(receivers.par_iter())
-                    .for_each(|(d, r)| *d = reconstruction::delta(r, shooter, kind, bvh));
-            });
-            let [x0, y0, x1, y1] = shooter.texels.map(|v| v as usize);
-            let width = self.layout.atlas_width as usize;
-            for (r, d) in self.receivers.iter().zip(&self.deltas) {
-                let at = r.texel * 4;
-                if r.polygon as usize == shooter.polygon || *d != Vec3::ZERO {
-                    self.marked[r.polygon as usize] = true;
-                }
-                if r.polygon as usize == shooter.polygon {
-                    let (x, y) = (r.texel % width, r.texel / width);
-                    if (x0..x1).contains(&x) && (y0..y1).contains(&y) {
-                        self.unshot[at..at + 3].fill(0.0);
-                    }
-                    continue;
-                }
-                for c in 0..3 {
-                    self.radiosity[at + c] += d[c];
-                    self.unshot[at + c] += d[c];
-                }
-            }
-            self.passes += 1;
-        }
-        // Re-total only the polygons the shot changed (as the GPU solver does).
-        self.changed.clear();
-        for (p, m) in self.marked.iter_mut().enumerate() {
-            if std::mem::take(m) {
-                self.changed.push(p);
-            }
-        }
-        self.totals.update(
-            &self.unshot,
-            self.layout.atlas_width as usize,
-            &self.texels,
-            &self.changed,
-            &self.patch_area,
-        );
-        self.shots += 1;
-        let record = ShotRecord {
-            shot: self.shots,
-            shooter: polygon,
-            seconds: self.started.elapsed().as_secs_f64(),
-            unshot_fraction: self.unshot_fraction(),
-            shot_power,
-            reflected_power: self.totals.total_power() - (before - shot_power),
-        };
-        self.history.push(record.clone());
-        record
-    }
-
-    pub fn solve(&mut self, mut progress: impl FnMut(&ShotRecord)) {
-        self.started = Instant::now();
-        while let Some(record) = self.step() {
-            progress(&record);
-        }
-    }
-
-    /// The accumulated radiance atlas, RGBA (alpha: polygon ID + 1), rows bottom to top.
-    pub fn radiosity_atlas(&self) -> Vec<f32> {
-        self.radiosity.clone()
-    }
-
-    pub fn unshot_atlas(&self) -> &[f32] {
+    fn unshot(&self) -> &[f32] {
         &self.unshot
     }
 
-    pub fn patch_area(&self, polygon: usize) -> f64 {
-        self.patch_area[polygon]
+    /// Nothing to draw: visibility is a shadow ray per receiver against the BVH, cast in the
+    /// reconstruction only where the form factor is not zero.
+    fn visibility(&mut self, _: &Shooter) -> Result<(), SolveError> {
+        Ok(())
     }
 
-    pub fn patch_areas(&self) -> &[f64] {
-        &self.patch_area
+    fn reconstruction(&mut self, shooter: &Shooter) -> Result<(), SolveError> {
+        let (bvh, receivers, kind) = (&self.bvh, &self.receivers, self.form_factor);
+        let deltas = &mut self.deltas;
+        self.pool.install(|| {
+            deltas
+                .par_iter_mut()
+                .zip(receivers.par_iter())
+                .for_each(|(d, r)| *d = reconstruction::delta(r, shooter, kind, bvh));
+        });
+        // The sums, in receiver order (the same for any thread count); the shooting texels'
+        // unshot radiance zero.
+        let [x0, y0, x1, y1] = shooter.texels.map(|v| v as usize);
+        let width = self.layout.atlas_width as usize;
+        for (r, d) in self.receivers.iter().zip(&self.deltas) {
+            let at = r.texel * 4;
+            if r.polygon as usize == shooter.polygon || *d != Vec3::ZERO {
+                self.marked[r.polygon as usize] = true;
+            }
+            if r.polygon as usize == shooter.polygon {
+                let (x, y) = (r.texel % width, r.texel / width);
+                if (x0..x1).contains(&x) && (y0..y1).contains(&y) {
+                    self.unshot[at..at + 3].fill(0.0);
+                }
+                continue;
+            }
+            for c in 0..3 {
+                self.radiosity[at + c] += d[c];
+                self.unshot[at + c] += d[c];
+            }
+        }
+        Ok(())
+    }
+
+    /// Nothing to copy: the reconstruction added into the lightmaps themselves.
+    fn accumulate(&mut self) -> Result<(), SolveError> {
+        Ok(())
+    }
+
+    fn read_unshot(&mut self, changed: &mut Vec<usize>) -> Result<(), SolveError> {
+        changed.clear();
+        for (p, m) in self.marked.iter_mut().enumerate() {
+            if std::mem::take(m) {
+                changed.push(p);
+            }
+        }
+        Ok(())
+    }
+
+    fn radiosity(&self) -> Vec<f32> {
+        self.radiosity.clone()
+    }
+
+    fn load(&mut self, radiosity: &[f32], unshot: &[f32]) -> Result<(), SolveError> {
+        self.radiosity.copy_from_slice(radiosity);
+        self.unshot.copy_from_slice(unshot);
+        self.marked.fill(true);
+        Ok(())
     }
 }

@@ -1,0 +1,183 @@
+//! The GPU backend: the paper's passes on OpenGL 3.0. The visibility pass draws the item buffer
+//! from the shooter (`visibility.rs`); the reconstruction pass draws every receiver's lightmap
+//! into renderbuffers, adding ΔL to the values it reads from the lightmap textures
+//! (`reconstruction.rs`); `glCopyTexSubImage2D` copies the sums back into the textures, and the
+//! unshot texture is read back for Find_Max_Energy after each shot.
+
+use super::progressive::{Backend, Solver};
+use super::reconstruction::{Lightmaps, ReconstructionPass};
+use super::visibility::VisibilityPass;
+use super::{mesh, Shooter, SolveError, SolveOptions, VisibilityKind};
+use crate::gl::{GlContext, Mesh};
+use crate::patches::PatchLayout;
+use crate::scene::Scene;
+use mesh::SceneMesh;
+
+/// Progressive refinement on the GPU.
+pub type GpuSolver<'a> = Solver<'a, GpuBackend<'a>>;
+
+/// The GL objects and passes of a GPU solve.
+pub struct GpuBackend<'a> {
+    ctx: &'a GlContext,
+    /// The caller's lightmaps without gutters, in which the passes work (the gutters are for
+    /// display filtering only).
+    dense: PatchLayout,
+    /// The scene with the caller's lightmap coordinates, for display.
+    display_mesh: Mesh,
+    visibility_mesh: SceneMesh,
+    pub visibility: VisibilityPass,
+    pub reconstruction: ReconstructionPass,
+    lightmaps: Lightmaps,
+    options: SolveOptions,
+    /// The unshot atlas as last read back from its texture.
+    unshot: Vec<f32>,
+    /// The polygons the passes of the current shot drew (receivers and shooters).
+    touched: Vec<usize>,
+}
+
+impl<'a> Solver<'a, GpuBackend<'a>> {
+    /// Set up the passes on `ctx` for `scene` laid out as `layout`, and initialise every patch's
+    /// unshot energy with its emission.
+    pub fn new(
+        ctx: &'a GlContext,
+        scene: &'a Scene,
+        layout: &'a PatchLayout,
+        options: SolveOptions,
+    ) -> Result<Self, SolveError> {
+        let backend = GpuBackend::new(ctx, scene, layout, options.clone())?;
+        Solver::start(scene, layout, options, backend)
+    }
+}
+
+impl<'a> GpuBackend<'a> {
+    fn new(
+        ctx: &'a GlContext,
+        scene: &Scene,
+        layout: &PatchLayout,
+        options: SolveOptions,
+    ) -> Result<Self, SolveError> {
+        let max = ctx
+            .info
+            .max_texture_size
+            .min(ctx.info.max_renderbuffer_size);
+        let public = layout;
+        let dense = layout.without_gutters();
+        let layout = &dense;
+        let (w, h) = (layout.atlas_width, layout.atlas_height);
+        if w as i64 > max as i64 || h as i64 > max as i64 {
+            let scale = (w.max(h) as f32 / max as f32) * 1.05;
+            return Err(SolveError::AtlasTooLarge {
+                width: w,
+                height: h,
+                max,
+                suggest: crate::patches::three_digits_up(layout.patch_size * scale),
+            });
+        }
+        if options.hemi_res < 16 || options.hemi_res as i64 > max as i64 {
+            return Err(SolveError::HemiRes {
+                res: options.hemi_res,
+                max,
+            });
+        }
+        if !(options.tessellation >= 0.0 && options.tessellation.is_finite()) {
+            return Err(SolveError::Tessellation(options.tessellation));
+        }
+        let gl = &ctx.gl;
+        let mesh = mesh::upload(gl, &mesh::vertex_data(scene, layout))?;
+        let display_mesh = mesh::upload(gl, &mesh::vertex_data(scene, public))?;
+        let n = scene.polygons.len();
+        let mut visibility = VisibilityPass::new(ctx, options.visibility, options.hemi_res, scene)?;
+        let data = if options.tessellation > 0.0 {
+            let size = options.tessellation * layout.patch_size;
+            mesh::tessellated_data(scene, layout, size)
+        } else if options.visibility == VisibilityKind::Hemicube && options.robust_visibility {
+            // Plates: the robust test reads the shown polygon's plane, which a plate shares.
+            mesh::plate_data(scene, layout, visibility.merge_plates(scene))
+        } else {
+            mesh::vertex_data(scene, layout)
+        };
+        let visibility_mesh = mesh::upload_scene(gl, &data, n)?;
+        let reconstruction = ReconstructionPass::new(ctx, scene, layout)?;
+        let lightmaps = Lightmaps::new(ctx, w as i32, h as i32)?;
+
+        // Initialise: every patch's unshot energy is its emission (3.2: "initialise E").
+        reconstruction.emit(ctx, &mesh)?;
+        reconstruction.copy_into(ctx, &lightmaps)?;
+        let mut unshot = Vec::new();
+        lightmaps.unshot.read_f32(&mut unshot);
+        Ok(GpuBackend {
+            ctx,
+            dense,
+            display_mesh,
+            visibility_mesh,
+            visibility,
+            reconstruction,
+            lightmaps,
+            options,
+            unshot,
+            touched: Vec::new(),
+        })
+    }
+
+    /// The scene for displaying the caller's layout's atlases.
+    pub fn mesh(&self) -> &Mesh {
+        &self.display_mesh
+    }
+}
+
+impl Backend for GpuBackend<'_> {
+    fn layout(&self) -> &PatchLayout {
+        &self.dense
+    }
+
+    fn unshot(&self) -> &[f32] {
+        &self.unshot
+    }
+
+    fn visibility(&mut self, shooter: &Shooter) -> Result<(), SolveError> {
+        Ok(self
+            .visibility
+            .run(self.ctx, &self.visibility_mesh, shooter)?)
+    }
+
+    fn reconstruction(&mut self, shooter: &Shooter) -> Result<(), SolveError> {
+        self.reconstruction.run(
+            self.ctx,
+            &self.visibility,
+            &self.lightmaps,
+            shooter,
+            &self.options,
+        )?;
+        self.touched.extend_from_slice(&self.reconstruction.touched);
+        Ok(())
+    }
+
+    fn accumulate(&mut self) -> Result<(), SolveError> {
+        Ok(self.reconstruction.copy_into(self.ctx, &self.lightmaps)?)
+    }
+
+    fn read_unshot(&mut self, changed: &mut Vec<usize>) -> Result<(), SolveError> {
+        // Find_Max_Energy reads what the copies put into the unshot lightmap texture.
+        self.lightmaps.unshot.read_f32(&mut self.unshot);
+        changed.clear();
+        changed.append(&mut self.touched);
+        changed.sort_unstable();
+        changed.dedup();
+        Ok(())
+    }
+
+    fn radiosity(&self) -> Vec<f32> {
+        let mut out = Vec::new();
+        self.lightmaps.radiosity.read_f32(&mut out);
+        out
+    }
+
+    fn load(&mut self, radiosity: &[f32], unshot: &[f32]) -> Result<(), SolveError> {
+        self.lightmaps.radiosity.upload_f32(radiosity);
+        self.lightmaps.unshot.upload_f32(unshot);
+        self.reconstruction.load_from(self.ctx, &self.lightmaps)?;
+        // Every polygon may have changed.
+        self.touched.extend(0..self.reconstruction.texels().len());
+        Ok(())
+    }
+}
