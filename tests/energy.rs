@@ -65,7 +65,11 @@ fn no_shot_creates_energy() {
         );
         assert!(solver.shots() > 10);
         // paper_notes 3.2.2: "no shot delivers more than it shot: worst 1.0000".
-        assert_quoted(&format!("cell {cell}: worst delivered/shot"), worst, "1.0000");
+        assert_quoted(
+            &format!("cell {cell}: worst delivered/shot"),
+            worst,
+            "1.0000",
+        );
         for r in &solver.history {
             assert!(r.reflected_power >= 0.0);
         }

@@ -100,7 +100,11 @@ fn a_pane_in_front_of_a_wall_casts_its_shadow() {
     assert!(close > 0.95, "{close} of the patches within 1 %");
     // paper_notes 4: at the bench's 128² hemicube "the GPU's receivers reflect 0.8 % less power
     // than the CPU's and 97.6 % of patches agree within 1 %" (measured -0.78 %, 97.62 %).
-    assert_quoted("simple room, first shot, reflected", 100.0 * reflected, "-0.8");
+    assert_quoted(
+        "simple room, first shot, reflected",
+        100.0 * reflected,
+        "-0.8",
+    );
     assert_quoted("simple room, first shot, within 1 %", 100.0 * close, "97.6");
 }
 
@@ -135,7 +139,11 @@ fn the_simple_room_solved_on_both() {
     );
     assert_eq!(n, 14445);
     assert_eq!((gpu.shots(), cpu.shots()), (1352, 1399), "shots GPU, CPU");
-    assert_quoted("simple room, mean patch difference", 100.0 * difference, "1.49");
+    assert_quoted(
+        "simple room, mean patch difference",
+        100.0 * difference,
+        "1.49",
+    );
 }
 
 #[test]

@@ -106,7 +106,11 @@ fn item_buffer_from_the_light_of_the_shadow_scene() {
         100.0 * agreement
     );
     assert!(agreement > 0.999, "agreement {agreement}");
-    assert_quoted("shadow scene, tessellated hemisphere", 100.0 * agreement, "100.0");
+    assert_quoted(
+        "shadow scene, tessellated hemisphere",
+        100.0 * agreement,
+        "100.0",
+    );
     let at = |u: f32, v: f32| {
         let i = ((u * 0.5 + 0.5) * res as f32) as u32;
         let j = ((v * 0.5 + 0.5) * res as f32) as u32;
@@ -286,7 +290,11 @@ fn plates_show_the_same_planes() {
     let n = scene.polygons.len();
     let mut merged = VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, &scene).unwrap();
     let plates = merged.merge_plates(&scene).clone();
-    assert_eq!(plates.merged_away(), 199, "polygons drawn as part of another");
+    assert_eq!(
+        plates.merged_away(),
+        199,
+        "polygons drawn as part of another"
+    );
     let plated =
         mesh::upload_scene(&ctx.gl, &mesh::plate_data(&scene, &layout, &plates), n).unwrap();
     let geometry = mesh::upload_scene(&ctx.gl, &mesh::vertex_data(&scene, &layout), n).unwrap();

@@ -141,11 +141,17 @@ fn cornell_box_matches_a_path_traced_reference() {
     let atlas = solver.radiosity_atlas();
     let bvh = Bvh::new(&scene);
     let (mut worst, mut worst_noise) = (0f32, 0f32);
-    let mut regions = Vec::new(); // (region, difference, noise) per polygon
-    // The short block's front is its side facing the camera (at -z).
+    // (region, difference %, noise %) per polygon; the short block's front is its side facing
+    // the camera (at -z).
+    let mut regions = Vec::new();
     let front = (0..scene.polygons.len())
         .filter(|&p| scene.polygons[p].object == "short_block")
-        .min_by(|&a, &b| scene.polygons[a].normal.z.total_cmp(&scene.polygons[b].normal.z))
+        .min_by(|&a, &b| {
+            scene.polygons[a]
+                .normal
+                .z
+                .total_cmp(&scene.polygons[b].normal.z)
+        })
         .unwrap();
     for (p, polygon) in scene.polygons.iter().enumerate() {
         if p == light {
@@ -191,7 +197,11 @@ fn cornell_box_matches_a_path_traced_reference() {
     assert!(worst < 0.03, "a region differs by {:.2} %", 100.0 * worst);
     // README: "measured: worst 1.69 %, reference noise ≤ 1.22 %".
     assert_quoted("worst region %", 100.0 * worst as f64, "1.69");
-    assert_quoted("worst reference noise %", 100.0 * worst_noise as f64, "1.22");
+    assert_quoted(
+        "worst reference noise %",
+        100.0 * worst_noise as f64,
+        "1.22",
+    );
     // paper_notes' table: each region's difference (one polygon) or smallest and largest
     // (several), and its reference's standard error (the largest), in %.
     let table = [
@@ -222,7 +232,10 @@ fn cornell_box_matches_a_path_traced_reference() {
         assert_quoted(&format!("{region}: reference ± %"), most_noise, noise);
     }
     assert_eq!(
-        table.iter().map(|t| regions.iter().filter(|r| r.0 == t.0).count()).sum::<usize>(),
+        table
+            .iter()
+            .map(|t| regions.iter().filter(|r| r.0 == t.0).count())
+            .sum::<usize>(),
         regions.len(),
         "every polygon is in the table"
     );

@@ -53,7 +53,10 @@ fn form_factors_match_the_closed_forms() {
     let today = [
         "0.001", "0.003", "0.003", "0.015", "0.025", "0.003", "0.003", "0.322", "0.169",
     ];
-    quoted(&checks, &std::array::from_fn::<_, 9, _>(|i| (FACTORS[i], today[i])));
+    quoted(
+        &checks,
+        &std::array::from_fn::<_, 9, _>(|i| (FACTORS[i], today[i])),
+    );
 }
 
 #[test]
@@ -68,7 +71,10 @@ fn the_papers_point_factor_misses_them() {
     let paper = [
         "2.12", "100.00", "100.00", "6.69", "2.08", "2.31", "50.73", "30.17", "15.97",
     ];
-    quoted(&checks, &std::array::from_fn::<_, 9, _>(|i| (FACTORS[i], paper[i])));
+    quoted(
+        &checks,
+        &std::array::from_fn::<_, 9, _>(|i| (FACTORS[i], paper[i])),
+    );
     let perpendicular = checks
         .iter()
         .find(|c| c.name.starts_with("perpendicular"))
