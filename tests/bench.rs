@@ -32,14 +32,89 @@ fn table1_reports_the_rooms_counts_and_both_solvers() {
         stdout.contains("| simple | 1602 | 6431 | 2 | 14445 |"),
         "{stdout}"
     );
+    // Setup and loop in separate columns for both solvers, the shader cache's state printed.
+    for column in [
+        "| CPU setup s | CPU loop s | GPU setup s cold / warm | GPU loop s cold / warm | CPU/GPU loops |",
+        "| paper CPU s | paper GPU s | paper CPU/GPU |",
+    ] {
+        assert!(stdout.contains(column), "no columns {column}: {stdout}");
+    }
+    assert!(stdout.contains("shader cache: "), "{stdout}");
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let row = &report["rows"][0];
     assert_eq!(row["paper_cpu_seconds"], 4.0);
     assert_eq!(row["paper_gpu_seconds"], 2.0);
-    for key in ["cpu_seconds", "gpu_seconds", "ratio"] {
-        assert!(row[key].as_f64().unwrap() > 0.0, "{key}");
+    let seconds = |solver: &str, key: &str| {
+        row[solver][key]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{solver}.{key} missing: {row}"))
+    };
+    for solver in ["gpu", "cpu"] {
+        let (setup, run) = (seconds(solver, "setup_s"), seconds(solver, "loop_s"));
+        // Sane: both measured, neither absurd (the whole test solves to 50 % unshot).
+        assert!(setup > 0.0 && setup < 120.0, "{solver} setup {setup}");
+        assert!(run > 0.0 && run < 120.0, "{solver} loop {run}");
+        assert!(row[solver]["shots"].as_u64().unwrap() > 0, "{solver} shots");
     }
+    // The ratio is the loops'.
+    let ratio = row["ratio"].as_f64().unwrap();
+    assert!(
+        (ratio - seconds("cpu", "loop_s") / seconds("gpu", "loop_s")).abs() < 1e-9 * ratio,
+        "ratio {ratio}"
+    );
+    // The default `--shader-cache both`: a cold GPU run (setup and loop) in a child process
+    // beside the timed (warm) ones; the state is one of the two known words, here and at the top.
+    for key in ["setup_cold_s", "loop_cold_s"] {
+        let cold = seconds("gpu", key);
+        assert!(cold > 0.0 && cold < 120.0, "{key} {cold}");
+    }
+    let state = row["gpu"]["shader_cache"].as_str().unwrap();
+    assert!(["warm", "cold"].contains(&state), "{state}");
+    assert_eq!(report["shader_cache"].as_str(), Some(state));
+    assert!(report["shader_cache_note"].as_str().is_some());
+    assert!(report["timing"].as_str().unwrap().contains("setup"));
     assert!(report["peak_memory_mib"].as_f64().unwrap() > 0.0);
     assert!(report["gl_renderer"].as_str().is_some());
+}
+
+#[test]
+fn table1_reports_a_cold_shader_cache_when_asked() {
+    // `--shader-cache cold` disables Mesa's cache for every run: no child, no warm figure.
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("table1.json");
+    let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args([
+            "bench",
+            "table1",
+            "--scenes",
+            "simple",
+            "--threshold",
+            "0.5",
+            "--shader-cache",
+            "cold",
+            "--json",
+        ])
+        .arg(&json)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    println!("{stdout}");
+    assert!(
+        stdout.contains("| GPU setup s (cold) | GPU loop s (cold) |"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("shader cache: cold"), "{stdout}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let gpu = &report["rows"][0]["gpu"];
+    assert_eq!(gpu["shader_cache"], "cold");
+    assert!(gpu.get("setup_cold_s").is_none() && gpu.get("loop_cold_s").is_none());
+    assert!(gpu["setup_s"].as_f64().unwrap() > 0.0 && gpu["loop_s"].as_f64().unwrap() > 0.0);
+    assert_eq!(report["shader_cache"], "cold");
 }

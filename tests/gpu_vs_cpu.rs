@@ -55,6 +55,15 @@ fn one_shot_agrees_almost_everywhere() {
     assert!(median < 1e-3, "median {median}");
     // The light shoots patch by patch (30 shooters): each casts its own shadow edges.
     assert!(close as f64 >= 0.93 * errors.len() as f64);
+    // paper_notes 4: "1,493 patches: after the first shot ... the median per-patch difference
+    // is 1.5e-5 and 96 % of patches agree within 1 %".
+    assert_eq!(errors.len(), 1493);
+    assert_quoted("first shot, median", median, "1.5e-5");
+    assert_quoted(
+        "first shot, % within 1 %",
+        100.0 * close as f64 / errors.len() as f64,
+        "96",
+    );
 }
 
 #[test]
@@ -83,13 +92,58 @@ fn a_pane_in_front_of_a_wall_casts_its_shadow() {
         100.0 * reflected,
         100.0 * close
     );
-    // Measured on llvmpipe at the bench's 128² hemicube: -0.73 %, 97.6 % (at 256²: +0.50 %,
-    // 98.2 %); the depth-slack test gave +30 %.
+    // The depth-slack test gave +30 %.
     assert!(
         reflected.abs() < 0.02,
         "reflected power differs by {reflected}"
     );
     assert!(close > 0.95, "{close} of the patches within 1 %");
+    // paper_notes 4: at the bench's 128² hemicube "the GPU's receivers reflect 0.8 % less power
+    // than the CPU's and 97.6 % of patches agree within 1 %" (measured -0.78 %, 97.62 %).
+    assert_quoted(
+        "simple room, first shot, reflected",
+        100.0 * reflected,
+        "-0.8",
+    );
+    assert_quoted("simple room, first shot, within 1 %", 100.0 * close, "97.6");
+}
+
+#[test]
+fn the_simple_room_solved_on_both() {
+    // The Table 1 bench's solve of the simple room (its options, to 1 % unshot) on both solvers:
+    // the shots README's Table 1 gives (GPU 1,352, CPU 1,399) and the mean patch difference
+    // paper_notes quotes (1.49 %: mean absolute difference over the mean radiance, RGB means).
+    let scene = load("simple");
+    let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
+    let ctx = context();
+    let options = gpu_radiosity::cli::bench::bench_options(0.01);
+    let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
+    gpu.solve(|_| {}).unwrap();
+    let mut cpu = CpuSolver::new(&scene, &layout, options, 0).unwrap();
+    cpu.solve(|_| {}).unwrap();
+    let (g, c) = (gpu.radiosity_atlas(), cpu.radiosity_atlas());
+    let (mut diff, mut sum, mut n) = (0.0, 0.0, 0usize);
+    for (g, c) in g.chunks_exact(4).zip(c.chunks_exact(4)) {
+        if c[3] > 0.0 {
+            diff += (mean(g) - mean(c)).abs();
+            sum += mean(c);
+            n += 1;
+        }
+    }
+    let difference = diff / sum;
+    println!(
+        "simple room: {n} patches, GPU {} shots, CPU {} shots; mean patch difference {:.4} %",
+        gpu.shots(),
+        cpu.shots(),
+        100.0 * difference
+    );
+    assert_eq!(n, 14445);
+    assert_eq!((gpu.shots(), cpu.shots()), (1352, 1399), "shots GPU, CPU");
+    assert_quoted(
+        "simple room, mean patch difference",
+        100.0 * difference,
+        "1.49",
+    );
 }
 
 #[test]
@@ -97,13 +151,14 @@ fn gpu_and_cpu_agree_patch_by_patch() {
     let scene = load("cornell");
     let layout = PatchLayout::new(&scene, Resolution::Patches(1500));
     let ctx = context();
-    for (mode, options) in [
-        ("accurate", SolveOptions::accurate()),
-        ("paper", SolveOptions::paper()),
-    ] {
+    // The accurate mode only: the paper's mode is checked against the CPU shot by shot
+    // (tests/single_shot.rs); over whole solves the two disagree by far more than visibility
+    // (measured: mean 95 %, GPU 44 shots, CPU 559), and a figure no test can bound is not printed.
+    {
+        let mode = "accurate";
         let options = SolveOptions {
             threshold: 1e-3,
-            ..options
+            ..SolveOptions::accurate()
         };
         let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
         gpu.solve(|_| {}).unwrap();
@@ -113,20 +168,24 @@ fn gpu_and_cpu_agree_patch_by_patch() {
         let q = |f: f64| errors[((errors.len() - 1) as f64 * f) as usize];
         let avg = errors.iter().sum::<f64>() / errors.len() as f64;
         println!(
-            "{mode}: {} patches, GPU {} shots, CPU {} shots; relative difference mean {:.4} %, median {:.4} %, 95th {:.3} %, max {:.2} %",
+            "{mode}: {} patches, GPU {} shots, CPU {} shots; relative difference mean {:.4} %, median {:.4} %, 95th {:.3} %",
             errors.len(),
             gpu.shots(),
             cpu.shots(),
             100.0 * avg,
             100.0 * q(0.5),
             100.0 * q(0.95),
-            100.0 * q(1.0)
         );
-        if mode == "accurate" {
-            assert!(q(0.5) < 0.01, "median {}", q(0.5));
-            assert!(q(0.95) < 0.05, "95th percentile {}", q(0.95));
-            assert!(avg < 0.025, "mean {avg}");
-        }
+        // The same shots to the threshold (measured: 86 each).
+        assert_eq!(gpu.shots(), cpu.shots());
+        assert!(q(0.5) < 0.01, "median {}", q(0.5));
+        assert!(q(0.95) < 0.05, "95th percentile {}", q(0.95));
+        assert!(avg < 0.025, "mean {avg}");
+        // paper_notes 4: "after a whole solve (threshold 0.001) ... median 0.04 %, 95th
+        // percentile 0.76 %, mean 0.29 %".
+        assert_quoted("whole solve, median %", 100.0 * q(0.5), "0.04");
+        assert_quoted("whole solve, 95th percentile %", 100.0 * q(0.95), "0.76");
+        assert_quoted("whole solve, mean %", 100.0 * avg, "0.29");
     }
 }
 

@@ -106,6 +106,11 @@ fn item_buffer_from_the_light_of_the_shadow_scene() {
         100.0 * agreement
     );
     assert!(agreement > 0.999, "agreement {agreement}");
+    assert_quoted(
+        "shadow scene, tessellated hemisphere",
+        100.0 * agreement,
+        "100.0",
+    );
     let at = |u: f32, v: f32| {
         let i = ((u * 0.5 + 0.5) * res as f32) as u32;
         let j = ((v * 0.5 + 0.5) * res as f32) as u32;
@@ -141,8 +146,12 @@ fn item_buffer_from_the_cornell_light_matches_ray_casting() {
         100.0 * whole,
         100.0 * cube
     );
-    assert!(tessellated > 0.99, "tessellated agreement {tessellated}");
-    assert!(cube > 0.999, "hemicube agreement {cube}");
+    // README ("Tests"): 100.0 % with tessellation, 72 % without; hemicube 100.0 %. (Measured
+    // 71.948 % without: paper_notes' "71.9 %" is true too, but 0.002 % from reading 72.0, so the
+    // quote asserted is the README's.)
+    assert_quoted("hemisphere, tessellated", 100.0 * tessellated, "100.0");
+    assert_quoted("hemisphere, whole polygons", 100.0 * whole, "72");
+    assert_quoted("hemicube", 100.0 * cube, "100.0");
 }
 
 #[test]
@@ -152,6 +161,7 @@ fn hemicube_from_a_wall_of_the_box() {
     let (agreement, ids) = compare(&scene, 2, 0.0, 64, VisibilityKind::Hemicube);
     println!("box from a wall, hemicube: {:.4} %", 100.0 * agreement);
     assert!(agreement > 0.999, "agreement {agreement}");
+    assert_quoted("box from a wall, hemicube", 100.0 * agreement, "100.0");
     // The front face's centre looks straight across the box at the opposite wall.
     let opposite = scene
         .polygons
@@ -181,6 +191,8 @@ fn hemicube_in_the_furnished_room_matches_ray_casting() {
             100.0 * agreement
         );
         assert!(agreement > 0.995, "{name}: agreement {agreement}");
+        // README: the hemicube's 100.0 % holds "also in the furnished simple room".
+        assert_quoted(name, 100.0 * agreement, "100.0");
     }
 }
 
@@ -235,14 +247,18 @@ fn leaving_out_the_far_faces_of_solids_keeps_the_item_buffer() {
     // The simple Table 1 room: 1,127 of its 1,602 polygons belong to convex solids (books closed
     // by their shelves, furniture boxes). The item buffers with and without the solids' far
     // faces must match pixel for pixel, but for the rare pixel whose centre lies on an edge
-    // where a near and a far face meet (measured: 715 of 37.5 million). The corner points test
+    // where a near and a far face meet (measured: 601 of 37.5 million). The corner points test
     // the near-plane margin: a keyboard's side face 0.5 mm above the desk once saw the desk's
     // underside through the clipped desk top, and the floor when the underside was left out.
     let ctx = context();
     let (scene, layout) = simple_room();
     let solids = Solids::find(&scene);
     let in_solids = solids.solid_of.iter().filter(|s| s.is_some()).count();
-    assert!(in_solids > 1000, "{in_solids} polygons in solids");
+    assert_eq!(
+        (solids.count(), in_solids),
+        (211, 1127),
+        "solids, polygons in solids"
+    );
     let n = scene.polygons.len();
     let geometry = mesh::upload_scene(&ctx.gl, &mesh::vertex_data(&scene, &layout), n).unwrap();
     let mut culled = VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, &scene).unwrap();
@@ -256,11 +272,11 @@ fn leaving_out_the_far_faces_of_solids_keeps_the_item_buffer() {
         |id| id,
     );
     println!("{runs} shooters: {differ} of {pixels} item-buffer pixels differ");
-    assert!(runs > 400, "{runs} shooters");
-    assert!(
-        (differ as f64) < 1e-4 * pixels as f64,
-        "{differ} of {pixels} pixels differ"
-    );
+    // paper_notes 3.2.1: "from 458 points of the simple room: fewer than 700 of 37.5 million
+    // pixels differ" (601 on Mesa 22.3.6's llvmpipe; pixel centres on edges are left to the
+    // rasteriser, so the count is bounded, not pinned).
+    assert_eq!((runs, pixels), (458, 37_519_360));
+    assert!(differ < 700, "{differ} of {pixels} pixels differ");
 }
 
 #[test]
@@ -274,7 +290,11 @@ fn plates_show_the_same_planes() {
     let n = scene.polygons.len();
     let mut merged = VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, &scene).unwrap();
     let plates = merged.merge_plates(&scene).clone();
-    assert!(plates.merged_away() > 150, "{}", plates.merged_away());
+    assert_eq!(
+        plates.merged_away(),
+        199,
+        "polygons drawn as part of another"
+    );
     let plated =
         mesh::upload_scene(&ctx.gl, &mesh::plate_data(&scene, &layout, &plates), n).unwrap();
     let geometry = mesh::upload_scene(&ctx.gl, &mesh::vertex_data(&scene, &layout), n).unwrap();
@@ -287,9 +307,34 @@ fn plates_show_the_same_planes() {
         |id| plates.representative[id as usize] as u32,
     );
     println!("{runs} shooters: {differ} of {pixels} item-buffer pixels differ");
-    assert!(runs > 400, "{runs} shooters");
-    assert!(
-        (differ as f64) < 1e-4 * pixels as f64,
-        "{differ} of {pixels} pixels differ"
-    );
+    // paper_notes 3.2.1: "from the same 458 points ... but for fewer than 100 of 37.5 million
+    // pixels" (85 on Mesa 22.3.6's llvmpipe: centres on removed joints).
+    assert_eq!((runs, pixels), (458, 37_519_360));
+    assert!(differ < 100, "{differ} of {pixels} pixels differ");
+}
+
+#[test]
+fn solids_and_plates_of_both_rooms() {
+    // paper_notes 3.2.1's counts: the simple room has 211 solids (1,127 of its 1,602 polygons),
+    // the complex one 1,216 (6,555 of 8,549); plates merge away 199 and 846 polygons.
+    use gpu_radiosity::scene::plates::Plates;
+    for (name, solids_n, in_solids_n, merged_n) in
+        [("simple", 211, 1127, 199), ("complex", 1216, 6555, 846)]
+    {
+        let scene = load(name);
+        let solids = Solids::find(&scene);
+        let in_solids = solids.solid_of.iter().filter(|s| s.is_some()).count();
+        let plates = Plates::find(&scene, |p| solids.solid_of[p].is_none());
+        println!(
+            "{name}: {} solids ({in_solids} of {} polygons), {} polygons merged into plates",
+            solids.count(),
+            scene.polygons.len(),
+            plates.merged_away()
+        );
+        assert_eq!(
+            (solids.count(), in_solids, plates.merged_away()),
+            (solids_n, in_solids_n, merged_n),
+            "{name}: solids, polygons in solids, merged into plates"
+        );
+    }
 }

@@ -228,7 +228,7 @@ fn the_papers_shot_matches_the_cpu_twin_of_its_hemispherical_item_buffer() {
     // and writes the lightmap textures. The CPU evaluates the same formula with the item buffer
     // that projection gives (which is not exact: see the next test).
     let worst = check_one_shot(SolveOptions::paper(), &by_hemispherical_item_buffer);
-    assert!(worst < 1e-5, "worst relative error {worst:e}");
+    assert!(worst < 5e-7, "worst relative error {worst:e}");
 }
 
 #[test]
@@ -240,7 +240,7 @@ fn the_papers_shot_with_a_tessellated_scene_matches_ray_casting() {
         ..SolveOptions::paper()
     };
     let worst = check_one_shot(options, &by_ray_cast);
-    assert!(worst < 1e-5, "worst relative error {worst:e}");
+    assert!(worst < 5e-7, "worst relative error {worst:e}");
 }
 
 #[test]
@@ -287,20 +287,23 @@ fn the_papers_projection_differs_from_ray_casting_where_its_edges_curve() {
 
 #[test]
 fn a_shot_from_the_polygon_centre_with_the_point_factor_matches_the_cpu() {
+    // paper_notes 3.2.2: "worst relative error 4.6e-7"; README: "5e-7 for the point factor".
     let worst = check_one_shot(hemicube(0, FormFactorKind::Point), &by_ray_cast);
-    assert!(worst < 1e-5, "worst relative error {worst:e}");
+    assert_quoted("point factor, whole polygon", worst as f64, "4.6e-7");
 }
 
 #[test]
 fn point_factor_shots_from_lightmap_cells_match_the_cpu() {
+    // Within the README's "5e-7 for the point factor" (measured 2.9e-7).
     let worst = check_one_shot(hemicube(4, FormFactorKind::Point), &by_ray_cast);
-    assert!(worst < 1e-5, "worst relative error {worst:e}");
+    assert!(worst < 5e-7, "point factor, cells of 4: {worst:e}");
 }
 
 #[test]
 fn polygon_factor_shots_match_the_cpu() {
-    for cell in [0, 4] {
-        let worst = check_one_shot(hemicube(cell, FormFactorKind::Polygon), &by_ray_cast);
-        assert!(worst < 1e-3, "worst relative error {worst:e}");
-    }
+    // README: "2e-5 for the polygon factor" (float `acos`; measured 8.4e-6 from the whole
+    // polygon, 1.9e-5 from cells of 4).
+    let whole = check_one_shot(hemicube(0, FormFactorKind::Polygon), &by_ray_cast);
+    let cells = check_one_shot(hemicube(4, FormFactorKind::Polygon), &by_ray_cast);
+    assert_quoted("polygon factor, worst", whole.max(cells) as f64, "2e-5");
 }

@@ -154,13 +154,14 @@ fn viewer_screenshot_shows_the_panel_and_the_same_scene_as_the_headless_render()
 
     // The scene region is the headless render of the same shots: same solver, same display
     // pass; only the tone mapping moved from the CPU (image.png) to the viewer's shader.
-    // Tolerance: at most 2 levels (of 255) on any channel, mean under 0.05 levels.
+    // Tolerance: README's "at most 1 level of 255 apart on llvmpipe" on any channel (rounding
+    // in the sRGB encoding), mean under 0.05 levels.
     let d = differences(&window, &image);
     let worst = *d.iter().max().unwrap();
     let mean = d.iter().map(|&v| v as f64).sum::<f64>() / d.len() as f64;
     eprintln!("window vs headless: worst {worst} levels, mean {mean:.5}");
     assert!(
-        worst <= 2 && mean < 0.05,
+        worst <= 1 && mean < 0.05,
         "scene region differs from the headless render: worst {worst}, mean {mean:.4}"
     );
 }

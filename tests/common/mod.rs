@@ -82,3 +82,21 @@ pub fn patch_centres(layout: &PatchLayout, p: usize) -> Vec<(usize, Vec3)> {
     }
     out
 }
+
+/// Assert that `value` reads as `quoted`, the figure README.md or paper_notes.md prints for it,
+/// when written with the quoted text's precision: as many decimals, or for a quote such as
+/// `4.6e-7` as many significant digits. So a test's measured number and the docs' cannot drift
+/// apart silently: change one, and this names the other. `what` names the figure.
+pub fn assert_quoted(what: &str, value: f64, quoted: &str) {
+    // A quoted sign: "+0.81" reads as "0.81" (and a value that is negative must be quoted so).
+    let quoted = quoted.strip_prefix('+').unwrap_or(quoted);
+    let decimals = |t: &str| t.split_once('.').map_or(0, |(_, d)| d.len());
+    let shown = match quoted.split_once('e') {
+        Some((mantissa, _)) => format!("{value:.*e}", decimals(mantissa)),
+        None => format!("{value:.*}", decimals(quoted)),
+    };
+    assert_eq!(
+        shown, quoted,
+        "{what}: measured {value:e}, which reads {shown} at the docs' precision; they quote {quoted}"
+    );
+}
