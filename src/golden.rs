@@ -9,8 +9,8 @@
 use crate::display::{self, Image};
 use crate::gl::GlContext;
 use crate::patches::{PatchLayout, Resolution};
-use crate::scene::load_obj;
-use crate::solver::{mesh, GpuSolver, SolveOptions};
+use crate::pipeline::{self, SolverKind};
+use crate::solver::SolveOptions;
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 
@@ -76,22 +76,21 @@ fn scene_path(scene: &str) -> PathBuf {
 
 /// Solve and render a case (1,024 patches, threshold 0.01, 96x96, the scene's camera).
 pub fn render(ctx: &GlContext, case: &Case) -> Result<Image> {
-    let scene = load_obj(&scene_path(case.scene))?;
+    let scene = pipeline::load_scene(Some(&scene_path(case.scene)))?;
     let layout = PatchLayout::try_new(&scene, Resolution::Patches(PATCHES))?;
-    let mut solver = GpuSolver::new(ctx, &scene, &layout, case.options())?;
-    solver.solve(|_| {})?;
-    let mut atlas = solver.radiosity_atlas();
-    layout.dilate(&mut atlas);
-    let mesh = mesh::upload(&ctx.gl, &mesh::vertex_data(&scene, &layout))?;
-    let camera = scene.camera_or_default();
-    Ok(display::render(
+    let solution = pipeline::solve(
         ctx,
         &scene,
-        &mesh,
-        &atlas,
-        (layout.atlas_width, layout.atlas_height),
-        &camera,
-        SIZE,
+        &layout,
+        SolverKind::Gpu,
+        case.options(),
+        0,
+        |_| {},
+    )?;
+    let (atlas, _) = solution.display_atlas(&scene, &layout, false);
+    let camera = scene.camera_or_default();
+    Ok(pipeline::render(
+        ctx, &scene, &layout, &atlas, &camera, SIZE,
     )?)
 }
 

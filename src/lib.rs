@@ -4,7 +4,8 @@
 //!
 //! The pipeline, one module per stage: [`scene`] (OBJ + MTL) → [`patches`] (lightmaps and the
 //! atlas) → [`solver`] (Find_Max_Energy, visibility pass, reconstruction pass) → [`display`]
-//! (the lit scene from a camera, images). [`gl`] holds the contexts and GL object wrappers;
+//! (the lit scene from a camera, images). [`pipeline`] runs them all in a few calls (see its
+//! example, and `examples/solve_cornell.rs`); [`gl`] holds the contexts and GL object wrappers;
 //! [`cli`] the command line.
 
 pub mod cli;
@@ -12,6 +13,7 @@ pub mod display;
 pub mod gl;
 pub mod golden;
 pub mod patches;
+pub mod pipeline;
 pub mod scene;
 pub mod solver;
 pub mod validate;

@@ -1,26 +1,24 @@
 //! `radiosity solve [SCENE.obj]`: scene → patches → GPU solver → display → files.
 
-use crate::display::{self, output};
+use crate::display;
 use crate::gl::{BackendChoice, GlContext, GlInfo};
-use crate::patches::{PatchLayout, Resolution};
-use crate::scene::{load_obj, Camera};
-use crate::solver::cpu::CpuSolver;
-use crate::solver::{FormFactorKind, GpuSolver, ShotRecord, SolveOptions, VisibilityKind};
+use crate::pipeline::{self, SettingsError, Stats};
+pub use crate::pipeline::{Mode, SolverKind};
+use crate::scene::Camera;
+use crate::solver::{
+    FormFactorKind, GpuSolver, ShotRecord, SolveError, SolveOptions, VisibilityKind,
+};
 use anyhow::{bail, Context, Result};
 use glam::Vec3;
+use std::cell::RefCell;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-
-/// The bundled default scene.
-pub const DEFAULT_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cornell/cornell.obj");
-/// Patches when neither --patches nor --patch-size nor the scene says otherwise.
-pub const DEFAULT_PATCHES: u32 = 4096;
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct SolveArgs {
     /// OBJ scene (with its MTL); default: the bundled Cornell box.
     pub scene: Option<PathBuf>,
-    /// Output directory; default: out/<scene name>/.
+    /// Output directory; default: out/SCENE_NAME/.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// OpenGL backend: auto tries EGL, then OSMesa.
@@ -100,20 +98,10 @@ pub struct SolveArgs {
     pub plot: bool,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Mode {
-    Paper,
-    Accurate,
-}
-
 impl SolveArgs {
     /// The solver settings: the mode's, with single settings overridden.
     pub fn options(&self) -> SolveOptions {
-        let base = match self.mode {
-            Mode::Paper => SolveOptions::paper(),
-            Mode::Accurate => SolveOptions::accurate(),
-        };
+        let base = self.mode.options();
         SolveOptions {
             threshold: self.threshold,
             max_shots: self.max_shots,
@@ -129,13 +117,6 @@ impl SolveArgs {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum SolverKind {
-    Gpu,
-    Cpu,
-}
-
 fn rayon_threads(requested: usize) -> usize {
     if requested > 0 {
         requested
@@ -143,49 +124,6 @@ fn rayon_threads(requested: usize) -> usize {
         std::thread::available_parallelism()
             .map(|n| n.get())
             .unwrap_or(1)
-    }
-}
-
-/// What either solver leaves for display and stats.
-struct Solved {
-    atlas: Vec<f32>,
-    unshot: Vec<f32>,
-    patch_area: Vec<f64>,
-    shots: u32,
-    passes: u32,
-    unshot_fraction: f64,
-    emitted_power: f64,
-    pass_seconds: Option<crate::solver::PassTimes>,
-    history: Vec<ShotRecord>,
-}
-
-impl Solved {
-    fn from_gpu(s: &GpuSolver) -> Solved {
-        Solved {
-            atlas: s.radiosity_atlas(),
-            unshot: s.unshot_atlas().to_vec(),
-            patch_area: s.patch_areas().to_vec(),
-            shots: s.shots(),
-            passes: s.passes(),
-            unshot_fraction: s.unshot_fraction(),
-            emitted_power: s.emitted_power(),
-            pass_seconds: Some(s.times().clone()),
-            history: s.history().to_vec(),
-        }
-    }
-
-    fn from_cpu(s: &CpuSolver) -> Solved {
-        Solved {
-            atlas: s.radiosity_atlas(),
-            unshot: s.unshot_atlas().to_vec(),
-            patch_area: s.patch_areas().to_vec(),
-            shots: s.shots(),
-            passes: s.passes(),
-            unshot_fraction: s.unshot_fraction(),
-            emitted_power: s.emitted_power(),
-            pass_seconds: None,
-            history: s.history().to_vec(),
-        }
     }
 }
 
@@ -220,58 +158,21 @@ pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
-/// Everything `stats.json` holds (the contract in docs/conventions.md, plus timings and settings).
-#[derive(serde::Serialize)]
-pub struct Stats {
-    pub scene: String,
-    pub faces: usize,
-    pub vertices: usize,
-    pub lights: usize,
-    pub patches: u64,
-    pub patch_size: f32,
-    pub atlas: [u32; 2],
-    pub solver: SolverKind,
-    pub mode: Mode,
-    pub backend: &'static str,
-    pub gl_vendor: String,
-    pub gl_renderer: String,
-    pub gl_version: String,
-    /// threshold, max_shots and the pass settings.
-    #[serde(flatten)]
-    pub options: SolveOptions,
-    pub shots: u32,
-    /// Visibility + reconstruction pass pairs (one per shooter cell of each shot).
-    pub passes: u32,
-    pub solve_seconds: f64,
-    /// Worker threads of the CPU solver.
-    pub threads: Option<usize>,
-    pub unshot_fraction: f64,
-    pub emitted_power: f64,
-    /// The ambient radiance added to the images (with --ambient), RGB.
-    pub ambient: Option<[f32; 3]>,
-    /// Seconds per GPU pass (the GPU solver only).
-    pub pass_seconds: Option<crate::solver::PassTimes>,
-    pub history: Vec<ShotRecord>,
-}
-
-/// The checks `solve` and `view` share: the stopping rule and the patch resolution.
+/// The checks `solve` and `view` share (the stopping rule and the patch resolution), with the
+/// flags named.
 pub(crate) fn check_solve_settings(
     threshold: f32,
     patch_size: Option<f32>,
     patches: Option<u32>,
 ) -> Result<()> {
-    if !(threshold > 0.0 && threshold < 1.0) {
-        bail!("--threshold {threshold} must be between 0 and 1 (exclusive)");
-    }
-    if let Some(s) = patch_size {
-        if !(s > 0.0 && s.is_finite()) {
-            bail!("--patch-size {s} must be a positive number of scene units");
-        }
-    }
-    if patches == Some(0) {
-        bail!("--patches must be at least 1");
-    }
-    Ok(())
+    pipeline::check_settings(threshold, patch_size, patches).map_err(|e| {
+        let flag = match e {
+            SettingsError::Threshold(_) => "--threshold",
+            SettingsError::PatchSize(_) => "--patch-size",
+            SettingsError::Patches => "--patches",
+        };
+        anyhow::anyhow!("{flag}: {e}")
+    })
 }
 
 pub struct SolveOutcome {
@@ -281,25 +182,24 @@ pub struct SolveOutcome {
 
 pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     check_solve_settings(args.threshold, args.patch_size, args.patches)?;
-    let scene_path = args
+    let scene = pipeline::load_scene(args.scene.as_deref())?;
+    let scene_name = args
         .scene
         .clone()
-        .unwrap_or_else(|| PathBuf::from(DEFAULT_SCENE));
-    let scene = load_obj(&scene_path)?;
+        .unwrap_or_else(|| PathBuf::from(pipeline::DEFAULT_SCENE))
+        .display()
+        .to_string();
     let out_dir = args
         .out
         .clone()
         .unwrap_or_else(|| Path::new("out").join(&scene.name));
     std::fs::create_dir_all(&out_dir)
         .with_context(|| format!("cannot create the output directory {}", out_dir.display()))?;
+    if args.solver == SolverKind::Cpu && !args.dump_passes.is_empty() {
+        bail!("--dump-passes pictures the GPU passes: use it with --solver gpu");
+    }
 
-    let resolution = match (args.patch_size, args.patches, scene.patch_size) {
-        (Some(s), _, _) => Resolution::PatchSize(s),
-        (None, Some(n), _) => Resolution::Patches(n),
-        (None, None, Some(s)) => Resolution::PatchSize(s),
-        (None, None, None) => Resolution::Patches(DEFAULT_PATCHES),
-    };
-    let layout = PatchLayout::try_new(&scene, resolution)?;
+    let layout = pipeline::lay_out(&scene, args.patch_size, args.patches)?;
     let ctx = GlContext::headless(args.backend)?;
     let info: &GlInfo = &ctx.info;
     eprintln!(
@@ -327,109 +227,69 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         bar.set_position(progress_position(r.unshot_fraction, args.threshold));
         bar.set_message(format!("shot {} unshot {:.4}", r.shot, r.unshot_fraction));
     };
-    let solver = match args.solver {
-        SolverKind::Gpu => {
-            let mut solver = GpuSolver::new(&ctx, &scene, &layout, options.clone())?;
-            let mut dumps = display::passes::PassDumps::new(&args.dump_passes, &out_dir);
-            display::passes::solve_dumping(&mut solver, &scene, &layout, &mut dumps, progress)?;
-            Solved::from_gpu(&solver)
-        }
-        SolverKind::Cpu => {
-            if !args.dump_passes.is_empty() {
-                bail!("--dump-passes pictures the GPU passes: use it with --solver gpu");
-            }
-            let mut solver = CpuSolver::new(&scene, &layout, options.clone(), args.threads)?;
-            solver.solve(progress)?;
-            Solved::from_cpu(&solver)
-        }
+    let solution = if args.dump_passes.is_empty() {
+        let (kind, threads) = (args.solver, args.threads);
+        pipeline::solve(
+            &ctx,
+            &scene,
+            &layout,
+            kind,
+            options.clone(),
+            threads,
+            progress,
+        )
+        .map_err(with_flags)?
+    } else {
+        // The GPU solve with the pictures of the listed shots written on the way.
+        let mut solver =
+            GpuSolver::new(&ctx, &scene, &layout, options.clone()).map_err(with_flags)?;
+        // Both hooks use the dumps, one after the other.
+        let dumps = RefCell::new(display::passes::PassDumps::new(&args.dump_passes, &out_dir));
+        solver.solve_with(
+            |s| dumps.borrow_mut().before_shot(s),
+            |s, record| -> Result<()> {
+                dumps
+                    .borrow_mut()
+                    .after_shot(s, &scene, &layout, record)
+                    .with_context(|| {
+                        format!("while writing the pictures of shot {}", record.shot)
+                    })?;
+                progress(record);
+                Ok(())
+            },
+        )?;
+        pipeline::Solution::of(&solver)
     };
     bar.finish_and_clear();
-    // Light that reaches nothing means a scene error (most often emitters wound backwards), not
-    // a black picture to write.
-    if !solver.history.is_empty() && solver.history.iter().all(|r| r.reflected_power <= 0.0) {
-        let lights: Vec<&str> = scene
-            .polygons
-            .iter()
-            .filter(|p| scene.material(p).is_emitter())
-            .map(|p| p.object.as_str())
-            .collect();
-        bail!(
-            "{}: the light reaches no surface that reflects it: the emitters ({}) face away from \
-             everything, or nothing in front of them has a reflectance (Kd) above 0. Emitters \
-             shine from their front face: counter-clockwise vertex order seen from the front",
-            scene_path.display(),
-            lights.join(", ")
-        );
-    }
-    let solve_seconds = solver.history.last().map(|r| r.seconds).unwrap_or(0.0);
+    solution
+        .check_light_reaches(&scene)
+        .with_context(|| scene_name.clone())?;
     eprintln!(
         "solved: {} shots ({} passes), unshot fraction {:.5}, {:.3} s",
-        solver.shots, solver.passes, solver.unshot_fraction, solve_seconds
+        solution.shots,
+        solution.passes,
+        solution.unshot_fraction,
+        solution.solve_seconds()
     );
 
-    let mut atlas = solver.atlas.clone();
     let camera = camera_from(args, scene.camera_or_default());
-    let raw_atlas = atlas.clone();
-    let ambient = if args.ambient {
-        let l = display::ambient::ambient(&scene, &solver.unshot, &solver.patch_area);
-        display::ambient::add_ambient(&scene, &mut atlas, l);
+    let (atlas, ambient) = solution.display_atlas(&scene, &layout, args.ambient);
+    if let Some(l) = ambient {
         eprintln!("ambient term: {:.5} {:.5} {:.5}", l.x, l.y, l.z);
-        Some(l.to_array())
-    } else {
-        None
-    };
-    layout.dilate(&mut atlas);
-    let mesh =
-        crate::solver::mesh::upload(&ctx.gl, &crate::solver::mesh::vertex_data(&scene, &layout))?;
-    let image = display::render(
-        &ctx,
-        &scene,
-        &mesh,
-        &atlas,
-        (layout.atlas_width, layout.atlas_height),
-        &camera,
-        args.size,
-    )?;
-
-    output::write_exr(
-        &out_dir.join("image.exr"),
-        image.width,
-        image.height,
-        &image.rgb,
-    )?;
-    output::write_png(&out_dir.join("image.png"), &image, args.exposure)?;
-    output::write_atlas_exr(
-        &out_dir.join("lightmap.exr"),
-        layout.atlas_width,
-        layout.atlas_height,
-        &raw_atlas,
-    )?;
-    let stats = Stats {
-        scene: scene_path.display().to_string(),
-        faces: scene.polygons.len(),
-        vertices: scene.vertex_count,
-        lights: scene.light_count(),
-        patches: layout.patch_count(),
-        patch_size: layout.patch_size,
-        atlas: [layout.atlas_width, layout.atlas_height],
+    }
+    let image = pipeline::render(&ctx, &scene, &layout, &atlas, &camera, args.size)?;
+    let run = pipeline::Run {
+        scene_name,
+        scene: &scene,
+        layout: &layout,
         solver: args.solver,
         mode: args.mode,
-        backend: info.backend.name(),
-        gl_vendor: info.vendor.clone(),
-        gl_renderer: info.renderer.clone(),
-        gl_version: info.version.clone(),
         options,
-        shots: solver.shots,
-        passes: solver.passes,
-        solve_seconds,
+        gl: info,
         threads: (args.solver == SolverKind::Cpu).then(|| rayon_threads(args.threads)),
-        unshot_fraction: solver.unshot_fraction,
-        emitted_power: solver.emitted_power,
-        ambient,
-        pass_seconds: solver.pass_seconds,
-        history: solver.history,
     };
-    output::write_json(&out_dir.join("stats.json"), &stats)?;
+    let stats = Stats::new(run, &solution, ambient);
+    pipeline::write_outputs(&out_dir, &image, args.exposure, &layout, &solution, &stats)?;
     if args.plot {
         let title = format!("{} ({:?} mode)", scene.name, args.mode).to_lowercase();
         let path = out_dir.join("convergence.png");
@@ -437,6 +297,23 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     }
     eprintln!("wrote {}", out_dir.display());
     Ok(SolveOutcome { stats, out_dir })
+}
+
+/// A solver error with the command-line flags that set what it speaks of.
+pub(crate) fn with_flags(e: SolveError) -> anyhow::Error {
+    let flags = match &e {
+        SolveError::AtlasTooLarge { .. } | SolveError::NoEmission { .. } => {
+            Some("--patch-size / --patches")
+        }
+        SolveError::HemiRes { .. } => Some("--hemi-res"),
+        SolveError::Tessellation(_) => Some("--tessellate"),
+        SolveError::Threads { .. } => Some("--threads"),
+        _ => None,
+    };
+    match flags {
+        Some(flags) => anyhow::anyhow!("{e} (set with {flags})"),
+        None => e.into(),
+    }
 }
 
 fn camera_from(args: &SolveArgs, base: Camera) -> Camera {

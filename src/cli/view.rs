@@ -1,6 +1,7 @@
 //! `radiosity view [SCENE.obj]`: the interactive viewer (see src/viewer/).
 
-use super::solve::{parse_size, Mode, DEFAULT_PATCHES, DEFAULT_SCENE};
+use super::solve::{parse_size, Mode};
+use crate::pipeline::{DEFAULT_PATCHES, DEFAULT_SCENE};
 use crate::viewer::{self, Overlay, ViewMode, ViewOptions};
 use anyhow::{bail, Result};
 use std::path::PathBuf;

@@ -23,7 +23,6 @@ use crate::solver::{GpuSolver, ShotRecord, VisibilityKind};
 use anyhow::{Context, Result};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 /// False colours for polygon IDs: (ID + 1) times an odd constant, modulo 2^24, as R, G, B bytes.
 /// Neighbouring IDs get very different colours, and the map is a bijection of 24-bit numbers,
@@ -157,37 +156,6 @@ impl PassDumps {
         self.written.extend(files);
         Ok(())
     }
-}
-
-/// `GpuSolver::solve` with the pictures of the listed shots written on the way; the time spent
-/// writing them is kept out of the solver's clock (history seconds, solve time).
-pub fn solve_dumping(
-    solver: &mut GpuSolver,
-    scene: &Scene,
-    layout: &PatchLayout,
-    dumps: &mut PassDumps,
-    mut progress: impl FnMut(&ShotRecord),
-) -> Result<()> {
-    if dumps.is_empty() {
-        solver.solve(progress)?;
-        return Ok(());
-    }
-    solver.restart_clock();
-    loop {
-        let t = Instant::now();
-        dumps.before_shot(solver);
-        solver.exclude_time(t.elapsed());
-        let Some(record) = solver.step()? else {
-            break;
-        };
-        let t = Instant::now();
-        dumps
-            .after_shot(solver, scene, layout, &record)
-            .with_context(|| format!("while writing the pictures of shot {}", record.shot))?;
-        solver.exclude_time(t.elapsed());
-        progress(&record);
-    }
-    Ok(())
 }
 
 /// Item-buffer IDs (rows bottom to top) → false-colour RGB, rows top to bottom.

@@ -254,7 +254,7 @@ impl PatchLayout {
         self.patches_per_polygon.iter().map(|&n| n as u64).sum()
     }
 
-    /// Lightmap coordinates of a polygon's vertex, normalised to the atlas ([0,1]²).
+    /// Lightmap coordinates of a polygon's vertex, normalised to the atlas (0 to 1 on each axis).
     pub fn atlas_uv(&self, polygon: usize, p: Vec3) -> Vec2 {
         let lm = &self.lightmaps[polygon];
         let t = lm.texel_of(p);

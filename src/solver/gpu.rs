@@ -8,7 +8,7 @@ use super::progressive::{Backend, Solver};
 use super::reconstruction::{Lightmaps, ReconstructionPass};
 use super::visibility::VisibilityPass;
 use super::{mesh, Shooter, SolveError, SolveOptions, VisibilityKind};
-use crate::gl::{GlContext, Mesh};
+use crate::gl::GlContext;
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
 use mesh::SceneMesh;
@@ -22,8 +22,6 @@ pub struct GpuBackend<'a> {
     /// The caller's lightmaps without gutters, in which the passes work (the gutters are for
     /// display filtering only).
     dense: PatchLayout,
-    /// The scene with the caller's lightmap coordinates, for display.
-    display_mesh: Mesh,
     visibility_mesh: SceneMesh,
     pub visibility: VisibilityPass,
     pub reconstruction: ReconstructionPass,
@@ -60,7 +58,6 @@ impl<'a> GpuBackend<'a> {
             .info
             .max_texture_size
             .min(ctx.info.max_renderbuffer_size);
-        let public = layout;
         let dense = layout.without_gutters();
         let layout = &dense;
         let (w, h) = (layout.atlas_width, layout.atlas_height);
@@ -84,7 +81,6 @@ impl<'a> GpuBackend<'a> {
         }
         let gl = &ctx.gl;
         let mesh = mesh::upload(gl, &mesh::vertex_data(scene, layout))?;
-        let display_mesh = mesh::upload(gl, &mesh::vertex_data(scene, public))?;
         let n = scene.polygons.len();
         let mut visibility = VisibilityPass::new(ctx, options.visibility, options.hemi_res, scene)?;
         let data = if options.tessellation > 0.0 {
@@ -108,7 +104,6 @@ impl<'a> GpuBackend<'a> {
         Ok(GpuBackend {
             ctx,
             dense,
-            display_mesh,
             visibility_mesh,
             visibility,
             reconstruction,
@@ -117,11 +112,6 @@ impl<'a> GpuBackend<'a> {
             unshot,
             touched: Vec::new(),
         })
-    }
-
-    /// The scene for displaying the caller's layout's atlases.
-    pub fn mesh(&self) -> &Mesh {
-        &self.display_mesh
     }
 }
 

@@ -135,11 +135,35 @@ impl<'a, B: Backend> Solver<'a, B> {
 
     /// Run to the stopping rule; `progress` sees every shot.
     pub fn solve(&mut self, mut progress: impl FnMut(&ShotRecord)) -> Result<(), SolveError> {
+        self.solve_with(
+            |_| {},
+            |_, record| {
+                progress(record);
+                Ok::<(), SolveError>(())
+            },
+        )
+    }
+
+    /// Run to the stopping rule, calling `before` ahead of every shot and `after` once it is
+    /// taken (to picture the passes, say); the time they take is kept out of the solver's clock
+    /// (the history's seconds). An error from `after` stops the solve.
+    pub fn solve_with<E: From<SolveError>>(
+        &mut self,
+        mut before: impl FnMut(&Self),
+        mut after: impl FnMut(&Self, &ShotRecord) -> Result<(), E>,
+    ) -> Result<(), E> {
         self.ledger.restart_clock();
-        while let Some(record) = self.step()? {
-            progress(&record);
+        loop {
+            let t = Instant::now();
+            before(self);
+            self.ledger.exclude_time(t.elapsed());
+            let Some(record) = self.step()? else {
+                return Ok(());
+            };
+            let t = Instant::now();
+            after(self, &record)?;
+            self.ledger.exclude_time(t.elapsed());
         }
-        Ok(())
     }
 
     /// Find_Max_Energy: the polygon with the most unshot power.

@@ -6,11 +6,11 @@ use super::camera::OrbitCamera;
 use super::overlays::{inset_rect, Inset, Insets, OverlaySet, HEAT_DECADES};
 use super::ViewMode;
 use crate::display::{scene_view_projection, DisplayPass, Viewport};
-use crate::gl::{GlContext, GlError, Texture, TextureFormat};
+use crate::gl::{GlContext, GlError, Mesh, Texture, TextureFormat};
 use crate::glsl;
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
-use crate::solver::{GpuSolver, SolveError};
+use crate::solver::{mesh, GpuSolver, SolveError};
 use std::time::{Duration, Instant};
 
 pub struct Session<'a> {
@@ -19,6 +19,8 @@ pub struct Session<'a> {
     pub layout: &'a PatchLayout,
     /// The display pass with the viewer's shaders; its lightmap is the dilated radiance atlas.
     display: DisplayPass,
+    /// The scene with the layout's lightmap coordinates.
+    mesh: Mesh,
     /// The radiance atlas as solved (not dilated), for the atlas inset.
     atlas: Texture,
     /// The unshot atlas, for the heat map.
@@ -51,12 +53,14 @@ impl<'a> Session<'a> {
             )
         };
         let (atlas, unshot) = (texture()?, texture()?);
+        let mesh = mesh::upload(&ctx.gl, &mesh::vertex_data(scene, layout))?;
         solver.restart_clock();
         let mut session = Session {
             solver,
             mode,
             layout,
             display,
+            mesh,
             atlas,
             unshot,
             heat_log_max: 0.0,
@@ -131,19 +135,18 @@ impl<'a> Session<'a> {
         };
         let (last, next) = (id(self.last_shooter()), id(self.next_shooter()));
         let (w, h) = (self.layout.atlas_width, self.layout.atlas_height);
-        self.display
-            .run(ctx, self.solver.backend().mesh(), vp, None, view, |p| {
-                self.unshot.bind(1);
-                p.set_i32("Unshot", 1);
-                p.set_vec2("AtlasSize", [w as f32, h as f32]);
-                p.set_f32("Exposure", exposure);
-                p.set_i32("HeatMap", overlays.heat_map as i32);
-                p.set_f32("HeatMax", self.heat_log_max);
-                p.set_f32("HeatDecades", HEAT_DECADES);
-                p.set_i32("Borders", overlays.borders as i32);
-                p.set_f32("LastShooter", last);
-                p.set_f32("NextShooter", next);
-            })
+        self.display.run(ctx, &self.mesh, vp, None, view, |p| {
+            self.unshot.bind(1);
+            p.set_i32("Unshot", 1);
+            p.set_vec2("AtlasSize", [w as f32, h as f32]);
+            p.set_f32("Exposure", exposure);
+            p.set_i32("HeatMap", overlays.heat_map as i32);
+            p.set_f32("HeatMax", self.heat_log_max);
+            p.set_f32("HeatDecades", HEAT_DECADES);
+            p.set_i32("Borders", overlays.borders as i32);
+            p.set_f32("LastShooter", last);
+            p.set_f32("NextShooter", next);
+        })
     }
 
     /// The item-buffer and atlas insets that are on, in the corners of `view`.

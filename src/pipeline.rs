@@ -1,0 +1,370 @@
+//! The library's front door: the whole pipeline of the paper in a few calls, for the command
+//! line, the viewer, the golden check and any program of yours.
+//!
+//! ```no_run
+//! use gpu_radiosity::gl::{BackendChoice, GlContext};
+//! use gpu_radiosity::pipeline::{self, Mode, SolverKind};
+//!
+//! # fn main() -> anyhow::Result<()> {
+//! let scene = pipeline::load_scene(None)?;                  // the bundled Cornell box
+//! let layout = pipeline::lay_out(&scene, None, None)?;      // ~4,096 patches
+//! let ctx = GlContext::headless(BackendChoice::Auto)?;      // EGL or OSMesa, no display
+//! let options = Mode::Accurate.options();
+//! let solution = pipeline::solve(&ctx, &scene, &layout, SolverKind::Gpu, options, 0, |_| {})?;
+//! let image = pipeline::render(&ctx, &scene, &layout, &solution.display_atlas(&scene, &layout, false).0,
+//!                              &scene.camera_or_default(), (512, 512))?;
+//! gpu_radiosity::display::output::write_png("cornell.png".as_ref(), &image, 1.0)?;
+//! # Ok(()) }
+//! ```
+//!
+//! scene ([`load_scene`]) → patches ([`lay_out`]) → solver ([`solve`], or a
+//! [`Solver`] driven shot by shot) → display ([`render`], [`write_outputs`]).
+
+use crate::display::{self, output, Image};
+use crate::gl::{GlContext, GlError, GlInfo};
+use crate::patches::{LayoutError, PatchLayout, Resolution};
+use crate::scene::{load_obj, Camera, Scene, SceneError};
+use crate::solver::{
+    Backend, CpuSolver, GpuSolver, PassTimes, ShotRecord, SolveError, SolveOptions, Solver,
+};
+use glam::Vec3;
+use std::path::Path;
+
+/// Patches when neither the caller nor the scene says otherwise.
+pub const DEFAULT_PATCHES: u32 = 4096;
+
+/// Which solver computes the radiosity.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SolverKind {
+    /// The paper's passes on OpenGL.
+    Gpu,
+    /// The same algorithm in Rust, with exact ray-cast visibility (rayon).
+    Cpu,
+}
+
+/// The two sets of solver settings: the paper literally, or with the corrections of
+/// paper_notes.md.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    Paper,
+    Accurate,
+}
+
+impl Mode {
+    pub fn options(self) -> SolveOptions {
+        match self {
+            Mode::Paper => SolveOptions::paper(),
+            Mode::Accurate => SolveOptions::accurate(),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Paper => "paper",
+            Mode::Accurate => "accurate",
+        }
+    }
+}
+
+/// Settings a solve cannot run with, in the library's terms.
+#[derive(Debug, thiserror::Error)]
+pub enum SettingsError {
+    #[error("the threshold {0} must be between 0 and 1 (exclusive)")]
+    Threshold(f32),
+    #[error("the patch size {0} must be a positive number of scene units")]
+    PatchSize(f32),
+    #[error("the patch count must be at least 1")]
+    Patches,
+}
+
+/// The light reached nothing that reflects it: a scene error (most often emitters wound
+/// backwards), not a black picture to write.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "the light reaches no surface that reflects it: the emitters ({lights}) face away from \
+     everything, or nothing in front of them has a reflectance (Kd) above 0. Emitters shine from \
+     their front face: counter-clockwise vertex order seen from the front"
+)]
+pub struct LightReachesNothing {
+    /// The emitting objects, comma-separated.
+    pub lights: String,
+}
+
+/// Check the stopping rule's threshold (0 < t < 1) and the patch resolution the caller asks for.
+pub fn check_settings(
+    threshold: f32,
+    patch_size: Option<f32>,
+    patches: Option<u32>,
+) -> Result<(), SettingsError> {
+    if !(threshold > 0.0 && threshold < 1.0) {
+        return Err(SettingsError::Threshold(threshold));
+    }
+    if let Some(s) = patch_size {
+        if !(s > 0.0 && s.is_finite()) {
+            return Err(SettingsError::PatchSize(s));
+        }
+    }
+    if patches == Some(0) {
+        return Err(SettingsError::Patches);
+    }
+    Ok(())
+}
+
+/// Load an OBJ scene (with its MTL), or the bundled Cornell box for `None`.
+pub fn load_scene(path: Option<&Path>) -> Result<Scene, SceneError> {
+    load_obj(path.unwrap_or(DEFAULT_SCENE.as_ref()))
+}
+
+/// The bundled default scene.
+pub const DEFAULT_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cornell/cornell.obj");
+
+/// The patch resolution: a patch size, else a patch count, else the scene's `# patch-size`,
+/// else [`DEFAULT_PATCHES`].
+pub fn resolution(scene: &Scene, patch_size: Option<f32>, patches: Option<u32>) -> Resolution {
+    match (patch_size, patches, scene.patch_size) {
+        (Some(s), _, _) => Resolution::PatchSize(s),
+        (None, Some(n), _) => Resolution::Patches(n),
+        (None, None, Some(s)) => Resolution::PatchSize(s),
+        (None, None, None) => Resolution::Patches(DEFAULT_PATCHES),
+    }
+}
+
+/// Lay out every polygon's lightmap and pack the atlas (see [`resolution`]).
+pub fn lay_out(
+    scene: &Scene,
+    patch_size: Option<f32>,
+    patches: Option<u32>,
+) -> Result<PatchLayout, LayoutError> {
+    PatchLayout::try_new(scene, resolution(scene, patch_size, patches))
+}
+
+/// What a solve leaves for display and stats, whichever solver computed it.
+#[derive(Clone, Debug)]
+pub struct Solution {
+    /// Accumulated radiance atlas (RGBA, alpha: polygon ID + 1, rows bottom to top).
+    pub radiosity: Vec<f32>,
+    /// Unshot radiance atlas, the same way.
+    pub unshot: Vec<f32>,
+    /// Area of one patch of each polygon.
+    pub patch_area: Vec<f64>,
+    pub shots: u32,
+    /// Visibility + reconstruction pass pairs.
+    pub passes: u32,
+    pub unshot_fraction: f64,
+    pub emitted_power: f64,
+    /// Seconds per named pass.
+    pub pass_seconds: PassTimes,
+    pub history: Vec<ShotRecord>,
+}
+
+impl Solution {
+    /// What `solver` holds now.
+    pub fn of<B: Backend>(solver: &Solver<B>) -> Solution {
+        Solution {
+            radiosity: solver.radiosity_atlas(),
+            unshot: solver.unshot_atlas(),
+            patch_area: solver.patch_areas().to_vec(),
+            shots: solver.shots(),
+            passes: solver.passes(),
+            unshot_fraction: solver.unshot_fraction(),
+            emitted_power: solver.emitted_power(),
+            pass_seconds: solver.times().clone(),
+            history: solver.history().to_vec(),
+        }
+    }
+
+    /// Seconds the solve took (the last shot's time).
+    pub fn solve_seconds(&self) -> f64 {
+        self.history.last().map_or(0.0, |r| r.seconds)
+    }
+
+    /// Fails if shots were taken and none reflected anything.
+    pub fn check_light_reaches(&self, scene: &Scene) -> Result<(), LightReachesNothing> {
+        if self.history.is_empty() || self.history.iter().any(|r| r.reflected_power > 0.0) {
+            return Ok(());
+        }
+        let lights: Vec<&str> = scene
+            .polygons
+            .iter()
+            .filter(|p| scene.material(p).is_emitter())
+            .map(|p| p.object.as_str())
+            .collect();
+        Err(LightReachesNothing {
+            lights: lights.join(", "),
+        })
+    }
+
+    /// The atlas to display: the radiance, with Cohen et al.'s (1988) ambient term added if
+    /// `ambient` (then also returned), dilated into the gutters for bilinear filtering.
+    pub fn display_atlas(
+        &self,
+        scene: &Scene,
+        layout: &PatchLayout,
+        ambient: bool,
+    ) -> (Vec<f32>, Option<Vec3>) {
+        let mut atlas = self.radiosity.clone();
+        let term = ambient.then(|| {
+            let l = display::ambient::ambient(scene, &self.unshot, &self.patch_area);
+            display::ambient::add_ambient(scene, &mut atlas, l);
+            l
+        });
+        layout.dilate(&mut atlas);
+        (atlas, term)
+    }
+}
+
+/// Solve `scene` laid out as `layout` to the stopping rule of `options`, with the GPU solver on
+/// `ctx` or the CPU solver on `threads` worker threads (0: one per core); `progress` sees every
+/// shot.
+pub fn solve(
+    ctx: &GlContext,
+    scene: &Scene,
+    layout: &PatchLayout,
+    kind: SolverKind,
+    options: SolveOptions,
+    threads: usize,
+    progress: impl FnMut(&ShotRecord),
+) -> Result<Solution, SolveError> {
+    Ok(match kind {
+        SolverKind::Gpu => {
+            let mut solver = GpuSolver::new(ctx, scene, layout, options)?;
+            solver.solve(progress)?;
+            Solution::of(&solver)
+        }
+        SolverKind::Cpu => {
+            let mut solver = CpuSolver::new(scene, layout, options, threads)?;
+            solver.solve(progress)?;
+            Solution::of(&solver)
+        }
+    })
+}
+
+/// Draw the lit scene from `camera` into a `size` float image (linear radiance, rows top to
+/// bottom), with `atlas` as [`Solution::display_atlas`] gives it.
+pub fn render(
+    ctx: &GlContext,
+    scene: &Scene,
+    layout: &PatchLayout,
+    atlas: &[f32],
+    camera: &Camera,
+    size: (u32, u32),
+) -> Result<Image, GlError> {
+    let mesh =
+        crate::solver::mesh::upload(&ctx.gl, &crate::solver::mesh::vertex_data(scene, layout))?;
+    display::render(
+        ctx,
+        scene,
+        &mesh,
+        atlas,
+        (layout.atlas_width, layout.atlas_height),
+        camera,
+        size,
+    )
+}
+
+/// Everything `stats.json` holds (docs/conventions.md's contract, plus timings and settings).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Stats {
+    pub scene: String,
+    pub faces: usize,
+    pub vertices: usize,
+    pub lights: usize,
+    pub patches: u64,
+    pub patch_size: f32,
+    pub atlas: [u32; 2],
+    pub solver: SolverKind,
+    pub mode: Mode,
+    pub backend: &'static str,
+    pub gl_vendor: String,
+    pub gl_renderer: String,
+    pub gl_version: String,
+    /// threshold, max_shots and the pass settings.
+    #[serde(flatten)]
+    pub options: SolveOptions,
+    pub shots: u32,
+    /// Visibility + reconstruction pass pairs (one per shooter cell of each shot).
+    pub passes: u32,
+    pub solve_seconds: f64,
+    /// Worker threads of the CPU solver.
+    pub threads: Option<usize>,
+    pub unshot_fraction: f64,
+    pub emitted_power: f64,
+    /// The ambient radiance added to the images (with the ambient term), RGB.
+    pub ambient: Option<[f32; 3]>,
+    /// Seconds per pass, by name.
+    pub pass_seconds: PassTimes,
+    pub history: Vec<ShotRecord>,
+}
+
+/// Where and how a solve ran, for [`Stats::new`].
+pub struct Run<'a> {
+    /// The scene's file, as the user named it (or the bundled scene's name).
+    pub scene_name: String,
+    pub scene: &'a Scene,
+    pub layout: &'a PatchLayout,
+    pub solver: SolverKind,
+    pub mode: Mode,
+    pub options: SolveOptions,
+    pub gl: &'a GlInfo,
+    /// CPU worker threads, for the CPU solver.
+    pub threads: Option<usize>,
+}
+
+impl Stats {
+    pub fn new(run: Run, solution: &Solution, ambient: Option<Vec3>) -> Stats {
+        let (scene, layout) = (run.scene, run.layout);
+        Stats {
+            scene: run.scene_name,
+            faces: scene.polygons.len(),
+            vertices: scene.vertex_count,
+            lights: scene.light_count(),
+            patches: layout.patch_count(),
+            patch_size: layout.patch_size,
+            atlas: [layout.atlas_width, layout.atlas_height],
+            solver: run.solver,
+            mode: run.mode,
+            backend: run.gl.backend.name(),
+            gl_vendor: run.gl.vendor.clone(),
+            gl_renderer: run.gl.renderer.clone(),
+            gl_version: run.gl.version.clone(),
+            options: run.options,
+            shots: solution.shots,
+            passes: solution.passes,
+            solve_seconds: solution.solve_seconds(),
+            threads: run.threads,
+            unshot_fraction: solution.unshot_fraction,
+            emitted_power: solution.emitted_power,
+            ambient: ambient.map(|l| l.to_array()),
+            pass_seconds: solution.pass_seconds.clone(),
+            history: solution.history.clone(),
+        }
+    }
+}
+
+/// Write `image.exr` (linear), `image.png` (tone-mapped with `exposure`), `lightmap.exr` (the
+/// solver's radiance atlas) and `stats.json` into `dir`.
+pub fn write_outputs(
+    dir: &Path,
+    image: &Image,
+    exposure: f32,
+    layout: &PatchLayout,
+    solution: &Solution,
+    stats: &Stats,
+) -> anyhow::Result<()> {
+    output::write_exr(
+        &dir.join("image.exr"),
+        image.width,
+        image.height,
+        &image.rgb,
+    )?;
+    output::write_png(&dir.join("image.png"), image, exposure)?;
+    output::write_atlas_exr(
+        &dir.join("lightmap.exr"),
+        layout.atlas_width,
+        layout.atlas_height,
+        &solution.radiosity,
+    )?;
+    output::write_json(&dir.join("stats.json"), stats)
+}
