@@ -15,12 +15,13 @@
 
 use super::mesh::{SceneMesh, ATTRIBUTES};
 use super::{Shooter, VisibilityKind};
+use crate::geometry::Plane;
 use crate::gl::{
     Framebuffer, GlContext, GlError, IndexStream, Program, Renderbuffer, Texture, TextureFormat,
 };
 use crate::glsl;
 use crate::scene::plates::Plates;
-use crate::scene::solids::{Plane, Solids};
+use crate::scene::solids::Solids;
 use crate::scene::Scene;
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
