@@ -7,12 +7,11 @@ mod common;
 use common::*;
 use glam::Vec3;
 use gpu_radiosity::patches::PatchLayout;
-use gpu_radiosity::scene::solids::Solids;
 use gpu_radiosity::scene::Scene;
 use gpu_radiosity::solver::mesh::{self, SceneMesh};
-use gpu_radiosity::solver::visibility::face_rotations;
-use gpu_radiosity::solver::visibility::VisibilityPass;
-use gpu_radiosity::solver::{GpuSolver, SolveOptions, VisibilityKind};
+use gpu_radiosity::solver::visibility::solids::Solids;
+use gpu_radiosity::solver::visibility::{face_rotations, VisibilityPass};
+use gpu_radiosity::solver::{GpuSolver, SolveOptions, Tuning, VisibilityKind};
 
 /// Fraction of item-buffer pixels (away from ID boundaries and the disk's rim) whose ID matches
 /// the CPU ray cast, plus the IDs at a few named directions.
@@ -33,6 +32,9 @@ fn compare(
         tessellation,
         shooter_cell: 0,
         visibility,
+        // The visibility pass as tuned for llvmpipe (views culled, guard band, half side faces,
+        // solids' far faces left out): what these tests hold against ray casting.
+        tuning: Tuning::llvmpipe(),
         ..SolveOptions::paper()
     };
     let mut solver = GpuSolver::new(&ctx, scene, &layout, options).unwrap();
@@ -245,9 +247,13 @@ fn leaving_out_the_far_faces_of_solids_keeps_the_item_buffer() {
     assert!(in_solids > 1000, "{in_solids} polygons in solids");
     let n = scene.polygons.len();
     let geometry = mesh::upload_scene(&ctx.gl, &mesh::vertex_data(&scene, &layout), n).unwrap();
-    let mut culled = VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, &scene).unwrap();
-    let mut full = VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, &scene).unwrap();
-    full.cull_solids = false;
+    let pass = |tuning| VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, tuning, &scene);
+    let mut culled = pass(Tuning::llvmpipe()).unwrap();
+    let mut full = pass(Tuning {
+        cull_solids: false,
+        ..Tuning::llvmpipe()
+    })
+    .unwrap();
     let (runs, pixels, differ) = item_buffers_differ(
         &ctx,
         &scene,
@@ -272,13 +278,22 @@ fn plates_show_the_same_planes() {
     let ctx = context();
     let (scene, layout) = simple_room();
     let n = scene.polygons.len();
-    let mut merged = VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, &scene).unwrap();
+    let pass = || {
+        VisibilityPass::new(
+            &ctx,
+            VisibilityKind::Hemicube,
+            128,
+            Tuning::llvmpipe(),
+            &scene,
+        )
+    };
+    let mut merged = pass().unwrap();
     let plates = merged.merge_plates(&scene).clone();
     assert!(plates.merged_away() > 150, "{}", plates.merged_away());
     let plated =
         mesh::upload_scene(&ctx.gl, &mesh::plate_data(&scene, &layout, &plates), n).unwrap();
     let geometry = mesh::upload_scene(&ctx.gl, &mesh::vertex_data(&scene, &layout), n).unwrap();
-    let mut single = VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, &scene).unwrap();
+    let mut single = pass().unwrap();
     let (runs, pixels, differ) = item_buffers_differ(
         &ctx,
         &scene,

@@ -3,8 +3,6 @@
 
 pub mod generate;
 mod obj;
-pub mod plates;
-pub mod solids;
 mod triangulate;
 
 pub use obj::{load_obj, SceneError};

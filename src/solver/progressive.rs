@@ -127,7 +127,13 @@ impl<'a> GpuSolver<'a> {
         let mesh = mesh::upload(gl, &mesh::vertex_data(scene, layout))?;
         let display_mesh = mesh::upload(gl, &mesh::vertex_data(scene, public))?;
         let n = scene.polygons.len();
-        let mut visibility = VisibilityPass::new(ctx, options.visibility, options.hemi_res, scene)?;
+        let mut visibility = VisibilityPass::new(
+            ctx,
+            options.visibility,
+            options.hemi_res,
+            options.tuning,
+            scene,
+        )?;
         let data = if options.tessellation > 0.0 {
             let size = options.tessellation * layout.patch_size;
             mesh::tessellated_data(scene, layout, size)

@@ -1,7 +1,9 @@
-//! The reconstruction pass draws the receivers as squares of whole 4×4 blocks over an atlas
-//! without gutters; what it computes must not depend on how the squares are drawn (points, or
-//! triangle pairs where an implementation's points are too small) nor on where the lightmaps
-//! lie in the atlas.
+//! The speed switches of `solver::Tuning` leave the answer as it is: each is turned off on its
+//! own, on the Cornell box (default options: shooter cells, hemicube) and the simple room (the
+//! bench's options), and the lightmaps compared with the tuned ones, bit for bit or within 1e-6
+//! L1 where the switch says float rounding may differ. Also: the reconstruction pass draws the
+//! receivers as squares of whole 4×4 blocks over an atlas without gutters, and what it computes
+//! does not depend on where the lightmaps lie in the atlas.
 
 mod common;
 
@@ -123,32 +125,129 @@ fn programs_unrolled_for_quadrilaterals_give_the_same_lightmaps() {
 
 #[test]
 fn the_papers_passes_and_the_tuned_ones_give_the_same_lightmaps() {
-    // With every switch of `Tuning` off, each pass draws every patch and tests visibility in the
-    // one shader, as the paper does: the same answer as the tuned passes, up to float rounding
-    // (the variant that does not clip sums the same terms in another order).
+    // With every switch of `Tuning::none` off, each reconstruction pass draws every patch and
+    // tests visibility in the one shader, and each view of the visibility pass draws the whole
+    // scene, as the paper does: the same answer as the tuned passes, up to float rounding (the
+    // variant that does not clip sums the same terms in another order).
     on_both_rooms(
         |t| *t = Tuning::none(),
         |name, mut tuned, mut paper| {
-            for _ in 0..20 {
-                let a = tuned.step().unwrap().unwrap();
-                let b = paper.step().unwrap().unwrap();
-                assert_eq!(a.shooter, b.shooter, "{name}");
-            }
-            for (a, b) in [
-                (tuned.radiosity_atlas(), paper.radiosity_atlas()),
-                (tuned.unshot_atlas(), paper.unshot_atlas()),
-            ] {
-                let diff: f64 = a.iter().zip(&b).map(|(x, y)| (x - y).abs() as f64).sum();
-                let total: f64 = b.iter().map(|y| y.abs() as f64).sum();
-                assert!(total > 0.0, "{name}");
-                assert!(
-                    diff / total < 1e-6,
-                    "{name}: L1 difference {}",
-                    diff / total
-                );
-            }
+            let d = step_both(name, &mut tuned, &mut paper, 20);
+            assert!(d < 1e-6, "{name}: L1 difference {d}");
         },
     );
+}
+
+#[test]
+fn the_guard_band_changes_nothing_but_float_noise() {
+    // Without it each hemicube face is drawn in a viewport of its own size, and the triangles
+    // crossing its edges are clipped: the same pixels, but for float rounding of the clipped
+    // and the widened vertices.
+    let off = |t: &mut Tuning| t.guard_band = 1;
+    on_both_rooms(off, |name, mut guarded, mut clipped| {
+        let d = step_both(name, &mut guarded, &mut clipped, 40);
+        assert!(d < 1e-6, "{name}: L1 difference {d}");
+    });
+}
+
+#[test]
+fn drawing_every_polygon_in_every_view_gives_the_same_lightmaps() {
+    // Culled by bounding spheres or not: what culling leaves out is clipped away whole.
+    let off = |t: &mut Tuning| t.cull_views = false;
+    on_both_rooms(off, |name, mut culled, mut whole| {
+        assert_eq!(step_both(name, &mut culled, &mut whole, 40), 0.0, "{name}");
+    });
+}
+
+#[test]
+fn drawing_the_unclipped_triangles_first_changes_nothing_but_depth_ties() {
+    let off = |t: &mut Tuning| t.split_unclipped = false;
+    on_both_rooms(off, |name, mut split, mut one| {
+        let d = step_both(name, &mut split, &mut one, 40);
+        assert!(d < 1e-6, "{name}: L1 difference {d}");
+    });
+}
+
+#[test]
+fn whole_side_faces_give_the_same_lightmaps() {
+    // The lower halves of the hemicube's side faces look below the shooter's horizon, where
+    // the reconstruction pass never looks.
+    let off = |t: &mut Tuning| t.half_side_faces = false;
+    on_both_rooms(off, |name, mut half, mut whole| {
+        assert_eq!(step_both(name, &mut half, &mut whole, 40), 0.0, "{name}");
+    });
+}
+
+#[test]
+fn plates_change_nothing_but_float_noise() {
+    let off = |t: &mut Tuning| t.plates = false;
+    on_both_rooms(off, |name, mut plates, mut polygons| {
+        let merged = |s: &GpuSolver| {
+            (0..s.gpu_patches.len())
+                .filter(|&p| s.visibility.shown_as(p) != p)
+                .count()
+        };
+        if name == "simple" {
+            assert!(merged(&plates) > 150, "{name}: {} merged", merged(&plates));
+        }
+        assert_eq!(merged(&polygons), 0, "{name}");
+        let d = step_both(name, &mut plates, &mut polygons, 40);
+        assert!(d < 1e-6, "{name}: L1 difference {d}");
+    });
+}
+
+#[test]
+fn leaving_out_the_far_faces_of_solids_changes_nothing_but_float_noise() {
+    let off = |t: &mut Tuning| t.cull_solids = false;
+    on_both_rooms(off, |name, mut culled, mut whole| {
+        let d = step_both(name, &mut culled, &mut whole, 40);
+        assert!(d < 1e-6, "{name}: L1 difference {d}");
+    });
+}
+
+#[test]
+fn flushing_after_the_visibility_pass_changes_nothing() {
+    let off = |t: &mut Tuning| t.flush_visibility = false;
+    on_both_rooms(off, |name, mut flushed, mut queued| {
+        assert_eq!(
+            step_both(name, &mut flushed, &mut queued, 40),
+            0.0,
+            "{name}"
+        );
+    });
+}
+
+#[test]
+fn float_depth_or_24_bit_depth_give_the_same_lightmaps() {
+    let off = |t: &mut Tuning| t.float_depth = false;
+    on_both_rooms(off, |name, mut float, mut fixed| {
+        let d = step_both(name, &mut float, &mut fixed, 40);
+        assert!(d < 1e-6, "{name}: L1 difference {d}");
+    });
+}
+
+/// Step both solvers `shots` times (they must pick the same shooters) and return the larger
+/// relative L1 difference of their radiance and unshot atlases: 0 when bit for bit the same.
+fn step_both(name: &str, a: &mut GpuSolver<'_>, b: &mut GpuSolver<'_>, shots: u32) -> f64 {
+    for _ in 0..shots {
+        let x = a.step().unwrap().unwrap();
+        let y = b.step().unwrap().unwrap();
+        assert_eq!(x.shooter, y.shooter, "{name}");
+    }
+    let mut worst: f64 = 0.0;
+    for (x, y) in [
+        (a.radiosity_atlas(), b.radiosity_atlas()),
+        (a.unshot_atlas(), b.unshot_atlas()),
+    ] {
+        let diff: f64 = x.iter().zip(&y).map(|(p, q)| (p - q).abs() as f64).sum();
+        let total: f64 = y.iter().map(|q| q.abs() as f64).sum();
+        assert!(total > 0.0, "{name}");
+        if x != y {
+            worst = worst.max(diff / total).max(f64::MIN_POSITIVE);
+        }
+    }
+    eprintln!("{name}: relative L1 difference {worst:.2e}");
+    worst
 }
 
 /// Run `check` on two solvers made alike but for `tweak` applied to the second one's tuning,

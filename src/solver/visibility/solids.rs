@@ -4,8 +4,9 @@
 //! that faces away can never be the first thing a ray meets: a ray reaching it from behind is
 //! inside the volume, so it entered earlier through a face that faces the point (or through the
 //! cap, which is met first). The hemicube's visibility pass leaves such polygons out
-//! (`VisibilityPass`), and its item buffer stays the same; not the hemispherical projection's,
-//! whose straight-drawn edges do not let the near faces cover the far ones exactly.
+//! (`Tuning::cull_solids`), and its item buffer stays the same; not the hemispherical
+//! projection's, whose straight-drawn edges do not let the near faces cover the far ones
+//! exactly.
 
 use crate::geometry::{mean, Plane};
 use crate::scene::Scene;
