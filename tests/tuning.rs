@@ -13,26 +13,15 @@ use gpu_radiosity::solver::{GpuSolver, Tuning};
 
 #[test]
 fn squares_drawn_as_points_or_triangles_give_the_same_lightmaps() {
-    let scene = load("simple");
-    let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
-    let ctx = context();
-    let options = gpu_radiosity::cli::bench::bench_options(0.01);
-    let mut points = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
-    let mut triangles = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
-    assert!(
-        points.reconstruction.squares_as_points,
-        "llvmpipe draws wide points"
-    );
-    triangles.reconstruction.squares_as_points = false;
-    for _ in 0..40 {
-        let a = points.step().unwrap().unwrap();
-        let b = triangles.step().unwrap().unwrap();
-        assert_eq!(a.shooter, b.shooter);
-    }
-    let (a, b) = (points.radiosity_atlas(), triangles.radiosity_atlas());
-    assert!(a.iter().any(|&v| v > 0.0));
-    assert!(a == b, "the two covers computed different radiance");
-    assert_eq!(points.unshot_atlas(), triangles.unshot_atlas());
+    let off = |t: &mut Tuning| t.squares_as_points = false;
+    on_both_rooms(off, |name, mut points, mut triangles| {
+        assert_eq!(step_both(name, &mut points, &mut triangles, 40), 0.0);
+        assert!(
+            points.reconstruction.drew_points(),
+            "llvmpipe draws wide points"
+        );
+        assert!(!triangles.reconstruction.drew_points());
+    });
 }
 
 #[test]

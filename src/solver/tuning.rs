@@ -34,6 +34,11 @@ pub struct Tuning {
     /// four corners, whose loops unroll (llvmpipe fetches a uniform array indexed by a run-time
     /// count lane by lane). Bit-identical; about 5 % less time per pass.
     pub unroll_quads: bool,
+    /// Reconstruction: each square of whole 4×4 blocks is drawn as one point, which llvmpipe
+    /// rasterises in one piece, block by block; off, as two triangles, whose shared diagonal
+    /// makes llvmpipe shade the blocks it crosses twice. The pass draws triangles anyway where
+    /// the driver's largest point is smaller than a block. Bit-identical.
+    pub squares_as_points: bool,
     /// Visibility (hemicube): each face is drawn in a viewport `guard_band` times its size (an
     /// odd number; even ones round down, and the driver's largest viewport may cap it), centred
     /// on the face, with its frustum widened to match and the scissor keeping its own pixels.
@@ -76,7 +81,8 @@ pub struct Tuning {
     /// converting (2 % of the pass's rasteriser instructions), and near-coplanar surfaces are
     /// told apart at least as well. On in [`Tuning::none`] too: 24-bit depth quantises
     /// differently, so the item buffer may change where surfaces lie close together (not only
-    /// at depth ties), and the paper's mode keeps the answers it has always given.
+    /// at depth ties; the two rooms' lightmaps came out bit-identical, which nothing promises
+    /// for other scenes), and the paper's mode keeps the answers it has always given.
     pub float_depth: bool,
 }
 
@@ -88,6 +94,7 @@ impl Tuning {
             marking_pass: true,
             skip_needless_clipping: true,
             unroll_quads: true,
+            squares_as_points: true,
             guard_band: 7,
             cull_views: true,
             split_unclipped: true,
@@ -110,6 +117,7 @@ impl Tuning {
             marking_pass: false,
             skip_needless_clipping: false,
             unroll_quads: false,
+            squares_as_points: false,
             guard_band: 1,
             cull_views: false,
             split_unclipped: false,
