@@ -36,8 +36,14 @@ fn passes(c: &mut Criterion) {
     let shooter = &shooters[0];
 
     let (w, h) = (layout.atlas_width as i32, layout.atlas_height as i32);
-    let mut visibility =
-        VisibilityPass::new(&ctx, options.visibility, options.hemi_res, &scene).unwrap();
+    let mut visibility = VisibilityPass::new(
+        &ctx,
+        options.visibility,
+        options.hemi_res,
+        options.tuning,
+        &scene,
+    )
+    .unwrap();
     // As the solver draws it: coplanar neighbours as plates (hemicube, robust test).
     let plates = mesh::plate_data(&scene, &layout, visibility.merge_plates(&scene));
     let geometry = mesh::upload_scene(&ctx.gl, &plates, scene.polygons.len()).unwrap();

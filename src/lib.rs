@@ -10,6 +10,7 @@
 
 pub mod cli;
 pub mod display;
+pub mod geometry;
 pub mod gl;
 pub mod golden;
 pub mod patches;

@@ -7,12 +7,11 @@ mod common;
 use common::*;
 use glam::Vec3;
 use gpu_radiosity::patches::PatchLayout;
-use gpu_radiosity::scene::solids::Solids;
 use gpu_radiosity::scene::Scene;
 use gpu_radiosity::solver::mesh::{self, SceneMesh};
-use gpu_radiosity::solver::visibility::face_rotations;
-use gpu_radiosity::solver::visibility::VisibilityPass;
-use gpu_radiosity::solver::{GpuSolver, SolveOptions, VisibilityKind};
+use gpu_radiosity::solver::visibility::solids::Solids;
+use gpu_radiosity::solver::visibility::{face_rotations, VisibilityPass};
+use gpu_radiosity::solver::{GpuSolver, SolveOptions, Tuning, VisibilityKind};
 
 /// Fraction of item-buffer pixels (away from ID boundaries and the disk's rim) whose ID matches
 /// the CPU ray cast, plus the IDs at a few named directions.
@@ -33,6 +32,9 @@ fn compare(
         tessellation,
         shooter_cell: 0,
         visibility,
+        // The visibility pass as tuned for llvmpipe (views culled, guard band, half side faces,
+        // solids' far faces left out): what these tests hold against ray casting.
+        tuning: Tuning::llvmpipe(),
         ..SolveOptions::paper()
     };
     let mut solver = GpuSolver::new(&ctx, scene, &layout, options).unwrap();
@@ -261,9 +263,13 @@ fn leaving_out_the_far_faces_of_solids_keeps_the_item_buffer() {
     );
     let n = scene.polygons.len();
     let geometry = mesh::upload_scene(&ctx.gl, &mesh::vertex_data(&scene, &layout), n).unwrap();
-    let mut culled = VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, &scene).unwrap();
-    let mut full = VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, &scene).unwrap();
-    full.cull_solids = false;
+    let pass = |tuning| VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, tuning, &scene);
+    let mut culled = pass(Tuning::llvmpipe()).unwrap();
+    let mut full = pass(Tuning {
+        cull_solids: false,
+        ..Tuning::llvmpipe()
+    })
+    .unwrap();
     let (runs, pixels, differ) = item_buffers_differ(
         &ctx,
         &scene,
@@ -288,7 +294,16 @@ fn plates_show_the_same_planes() {
     let ctx = context();
     let (scene, layout) = simple_room();
     let n = scene.polygons.len();
-    let mut merged = VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, &scene).unwrap();
+    let pass = || {
+        VisibilityPass::new(
+            &ctx,
+            VisibilityKind::Hemicube,
+            128,
+            Tuning::llvmpipe(),
+            &scene,
+        )
+    };
+    let mut merged = pass().unwrap();
     let plates = merged.merge_plates(&scene).clone();
     assert_eq!(
         plates.merged_away(),
@@ -298,7 +313,7 @@ fn plates_show_the_same_planes() {
     let plated =
         mesh::upload_scene(&ctx.gl, &mesh::plate_data(&scene, &layout, &plates), n).unwrap();
     let geometry = mesh::upload_scene(&ctx.gl, &mesh::vertex_data(&scene, &layout), n).unwrap();
-    let mut single = VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, &scene).unwrap();
+    let mut single = pass().unwrap();
     let (runs, pixels, differ) = item_buffers_differ(
         &ctx,
         &scene,
@@ -317,7 +332,7 @@ fn plates_show_the_same_planes() {
 fn solids_and_plates_of_both_rooms() {
     // paper_notes 3.2.1's counts: the simple room has 211 solids (1,127 of its 1,602 polygons),
     // the complex one 1,216 (6,555 of 8,549); plates merge away 199 and 846 polygons.
-    use gpu_radiosity::scene::plates::Plates;
+    use gpu_radiosity::solver::visibility::plates::Plates;
     for (name, solids_n, in_solids_n, merged_n) in
         [("simple", 211, 1127, 199), ("complex", 1216, 6555, 846)]
     {

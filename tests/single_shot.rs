@@ -8,7 +8,7 @@ mod common;
 
 use common::*;
 use glam::{Vec2, Vec3};
-use gpu_radiosity::patches::inside;
+use gpu_radiosity::geometry::point_in_polygon;
 use gpu_radiosity::scene::Scene;
 use gpu_radiosity::solver::form_factor;
 use gpu_radiosity::solver::{FormFactorKind, GpuSolver, Shooter, SolveOptions};
@@ -72,7 +72,7 @@ fn hemispherical_item_buffer(
             if edge_distance < margin {
                 return None;
             }
-            if !inside(&outline, centre) {
+            if !point_in_polygon(&outline, centre) {
                 continue;
             }
             // Depth along the pixel's direction to the polygon's plane (in eye space).

@@ -138,7 +138,7 @@ fn atlas_bound(scene: &Scene, s: f32) -> f64 {
         .polygons
         .iter()
         .map(|p| {
-            let (lo, hi) = gpu_radiosity::scene::bounds(&p.vertices).unwrap();
+            let (lo, hi) = gpu_radiosity::geometry::bounds(&p.vertices).unwrap();
             let side = ((hi - lo).length() / s) as f64 + 3.0;
             side * side
         })
@@ -331,7 +331,7 @@ impl Frame {
             .iter()
             .map(|&q| Vec2::new((q - anchor).dot(u), (q - anchor).dot(v)))
             .collect();
-        let (lo, hi) = gpu_radiosity::scene::bounds(&p.vertices).unwrap();
+        let (lo, hi) = gpu_radiosity::geometry::bounds(&p.vertices).unwrap();
         let extent = (hi - lo).length();
         let magnitude = lo.abs().max(hi.abs()).max_element();
         Frame {

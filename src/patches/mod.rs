@@ -17,6 +17,7 @@
 
 mod atlas;
 
+use crate::geometry::{flatten, point_in_polygon};
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
 
@@ -189,7 +190,7 @@ impl PatchLayout {
             let outline: Vec<Vec2> = polygon.vertices.iter().map(|&v| lm.texel_of(v)).collect();
             for t in 0..lm.h {
                 for s in 0..lm.w {
-                    if inside(&outline, Vec2::new(s as f32 + 0.5, t as f32 + 0.5)) {
+                    if point_in_polygon(&outline, Vec2::new(s as f32 + 0.5, t as f32 + 0.5)) {
                         let at =
                             (lm.y + t) as usize * layout.atlas_width as usize + (lm.x + s) as usize;
                         layout.owner[at] = i as u32 + 1;
@@ -386,8 +387,7 @@ fn best_rectangle(vertices: &[Vec3], normal: Vec3) -> (Vec3, Vec3, Vec2, Vec2) {
         }
         let v = normal.cross(u);
         let (mut lo, mut hi) = (Vec2::splat(f32::MAX), Vec2::splat(f32::MIN));
-        for &p in vertices {
-            let q = Vec2::new(p.dot(u), p.dot(v));
+        for q in flatten(vertices, u, v) {
             lo = lo.min(q);
             hi = hi.max(q);
         }
@@ -398,58 +398,6 @@ fn best_rectangle(vertices: &[Vec3], normal: Vec3) -> (Vec3, Vec3, Vec2, Vec2) {
     }
     let (_, u, v, lo, hi) = best.expect("polygons with area have a non-degenerate edge");
     (u, v, lo, hi)
-}
-
-/// `subject` clipped to the convex, counter-clockwise `clip` polygon (Sutherland–Hodgman), both
-/// in one plane's 2D coordinates. `None` when `clip` is not convex.
-pub fn clip_convex(subject: &[Vec2], clip: &[Vec2]) -> Option<Vec<Vec2>> {
-    let n = clip.len();
-    let turn =
-        |k: usize| (clip[(k + 1) % n] - clip[k]).perp_dot(clip[(k + 2) % n] - clip[(k + 1) % n]);
-    if (0..n).any(|k| turn(k) < -1e-6 * (clip[(k + 1) % n] - clip[k]).length_squared()) {
-        return None;
-    }
-    let mut out: Vec<Vec2> = subject.to_vec();
-    for k in 0..n {
-        let (a, b) = (clip[k], clip[(k + 1) % n]);
-        let side = |p: Vec2| (b - a).perp_dot(p - a);
-        let input = std::mem::take(&mut out);
-        for i in 0..input.len() {
-            let (p, q) = (input[i], input[(i + 1) % input.len()]);
-            let (sp, sq) = (side(p), side(q));
-            if sp >= 0.0 {
-                out.push(p);
-            }
-            if (sp >= 0.0) != (sq >= 0.0) {
-                out.push(p + (q - p) * (sp / (sp - sq)));
-            }
-        }
-        if out.is_empty() {
-            break;
-        }
-    }
-    Some(out)
-}
-
-/// Area of a simple polygon given in 2D (shoelace), positive when counter-clockwise.
-pub fn signed_area(points: &[Vec2]) -> f32 {
-    let n = points.len();
-    0.5 * (0..n)
-        .map(|i| points[i].perp_dot(points[(i + 1) % n]))
-        .sum::<f32>()
-}
-
-/// Even-odd point-in-polygon test in the lightmap plane.
-pub fn inside(outline: &[Vec2], p: Vec2) -> bool {
-    let mut inside = false;
-    let n = outline.len();
-    for i in 0..n {
-        let (a, b) = (outline[i], outline[(i + 1) % n]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
-            inside = !inside;
-        }
-    }
-    inside
 }
 
 /// The patch size that gives about `target` patches: start from area / target and refine.

@@ -3,13 +3,12 @@
 
 pub mod generate;
 mod obj;
-pub mod plates;
-pub mod solids;
 mod triangulate;
 
 pub use obj::{load_obj, SceneError};
 pub use triangulate::triangulate;
 
+use crate::geometry::{bounds, mean, sphere_around, Plane};
 use glam::Vec3;
 
 #[derive(Clone, Debug)]
@@ -81,7 +80,7 @@ impl Polygon {
         let centroid = if total.abs() > 0.0 {
             centroid / total
         } else {
-            vertices.iter().sum::<Vec3>() / n as f32
+            mean(&vertices)
         };
         Some(Polygon {
             vertices,
@@ -100,16 +99,20 @@ impl Polygon {
         let size = bounds(&self.vertices)
             .map(|(lo, hi)| (hi - lo).length())
             .unwrap_or(0.0);
-        let d = self.centroid.dot(self.normal);
+        let plane = self.plane();
         self.vertices
             .iter()
-            .all(|v| (v.dot(self.normal) - d).abs() <= tolerance * size)
+            .all(|v| plane.distance(*v).abs() <= tolerance * size)
+    }
+
+    /// The polygon's plane: its normal through its centroid.
+    pub fn plane(&self) -> Plane {
+        Plane::through(self.normal, self.centroid)
     }
 
     /// A sphere around the polygon: its centroid and the distance to its farthest vertex.
     pub fn bounding_sphere(&self) -> (Vec3, f32) {
-        let radius = self.vertices.iter().map(|v| v.distance(self.centroid));
-        (self.centroid, radius.fold(0.0, f32::max))
+        sphere_around(self.centroid, &self.vertices)
     }
 }
 
@@ -180,6 +183,18 @@ impl Scene {
         bounds(&all).unwrap_or((Vec3::ZERO, Vec3::ONE))
     }
 
+    /// The length of the bounding box's diagonal.
+    pub fn size(&self) -> f32 {
+        let (lo, hi) = self.bounds();
+        (hi - lo).length()
+    }
+
+    /// World units within which a point counts as on a plane (float noise: 1e-5 of the scene's
+    /// size; the rooms' thinnest gap, a sheet of paper on a desk, is 1 mm in 7 m).
+    pub fn plane_slack(&self) -> f32 {
+        1e-5 * self.size()
+    }
+
     /// The scene's own camera, or a view of its bounding box from the -z side.
     pub fn camera_or_default(&self) -> Camera {
         self.camera.unwrap_or_else(|| {
@@ -194,13 +209,4 @@ impl Scene {
             }
         })
     }
-}
-
-pub fn bounds(points: &[Vec3]) -> Option<(Vec3, Vec3)> {
-    let first = *points.first()?;
-    Some(
-        points
-            .iter()
-            .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p))),
-    )
 }

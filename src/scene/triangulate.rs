@@ -1,6 +1,7 @@
 //! Ear clipping of a planar polygon into triangles for drawing. Polygons stay whole everywhere
 //! else (one lightmap, one shooter); only the rasterizer needs triangles.
 
+use crate::geometry::flatten;
 use glam::{Vec2, Vec3};
 
 /// Triangles as index triples into `vertices`, counter-clockwise like the polygon.
@@ -29,10 +30,7 @@ pub fn triangulate(vertices: &[Vec3], normal: Vec3) -> Vec<[usize; 3]> {
         u
     };
     let v = normal.cross(u);
-    let flat: Vec<Vec2> = vertices
-        .iter()
-        .map(|p| Vec2::new(p.dot(u), p.dot(v)))
-        .collect();
+    let flat: Vec<Vec2> = flatten(vertices, u, v).collect();
     let mut remaining: Vec<usize> = (0..vertices.len()).collect();
     let mut triangles = Vec::with_capacity(vertices.len().saturating_sub(2));
     let cross = |a: Vec2, b: Vec2, c: Vec2| (b - a).perp_dot(c - a);

@@ -82,7 +82,13 @@ impl<'a> GpuBackend<'a> {
         let gl = &ctx.gl;
         let mesh = mesh::upload(gl, &mesh::vertex_data(scene, layout))?;
         let n = scene.polygons.len();
-        let mut visibility = VisibilityPass::new(ctx, options.visibility, options.hemi_res, scene)?;
+        let mut visibility = VisibilityPass::new(
+            ctx,
+            options.visibility,
+            options.hemi_res,
+            options.tuning,
+            scene,
+        )?;
         let data = if options.tessellation > 0.0 {
             let size = options.tessellation * layout.patch_size;
             mesh::tessellated_data(scene, layout, size)

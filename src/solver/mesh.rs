@@ -1,10 +1,10 @@
 //! The scene as one interleaved vertex buffer, built once: every pass draws all polygons with a
 //! single draw call (the paper draws polygon by polygon; same fragments, fewer calls).
 
+use super::visibility::plates::Plates;
 use crate::gl::objects::Attribute;
 use crate::gl::{GlError, Mesh};
 use crate::patches::PatchLayout;
-use crate::scene::plates::Plates;
 use crate::scene::{triangulate, Scene};
 use glam::Vec3;
 
@@ -38,7 +38,7 @@ pub fn vertex_data(scene: &Scene, layout: &PatchLayout) -> Vec<f32> {
     data
 }
 
-/// The vertex data of the hemicube's visibility pass: each merged plate (`scene::plates`) as one
+/// The vertex data of the hemicube's visibility pass: each merged plate (`visibility::plates`) as one
 /// polygon under its representative's ID, the other polygons as they are.
 pub fn plate_data(scene: &Scene, layout: &PatchLayout, plates: &Plates) -> Vec<f32> {
     let mut data = Vec::new();

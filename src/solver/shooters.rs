@@ -5,7 +5,8 @@
 
 use super::find_max_energy::EnergyTotals;
 use super::{Shooter, SolveOptions, MAX_CORNERS};
-use crate::patches::{clip_convex, signed_area, Lightmap, PatchLayout};
+use crate::geometry::{bounds, clip_convex, mean, rectangle, signed_area};
+use crate::patches::{Lightmap, PatchLayout};
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
 
@@ -43,12 +44,7 @@ pub fn shooters_of(
     };
     let outline: Vec<Vec2> = polygon.vertices.iter().map(|&v| lm.texel_of(v)).collect();
     if cell == 0 {
-        let rect = [
-            Vec2::ZERO,
-            Vec2::new(lm.w as f32, 0.0),
-            Vec2::new(lm.w as f32, lm.h as f32),
-            Vec2::new(0.0, lm.h as f32),
-        ];
+        let rect = rectangle(Vec2::ZERO, Vec2::new(lm.w as f32, lm.h as f32));
         let corners = if outline.len() <= MAX_CORNERS {
             &outline[..]
         } else {
@@ -92,13 +88,10 @@ pub fn shooters_of(
             return None;
         }
         // The rectangle itself where the polygon is not convex or the clip has too many corners.
-        let (fx0, fy0, fx1, fy1) = (x0 as f32, y0 as f32, x1 as f32, y1 as f32);
-        let rect = [
-            Vec2::new(fx0, fy0),
-            Vec2::new(fx1, fy0),
-            Vec2::new(fx1, fy1),
-            Vec2::new(fx0, fy1),
-        ];
+        let rect = rectangle(
+            Vec2::new(x0 as f32, y0 as f32),
+            Vec2::new(x1 as f32, y1 as f32),
+        );
         let clipped = clip_convex(&rect, &outline)
             .filter(|c| c.len() >= 3 && c.len() <= MAX_CORNERS && signed_area(c) > 0.0);
         let (corners, corner_count, area) = world_outline(lm, clipped.as_deref().unwrap_or(&rect));
@@ -181,7 +174,7 @@ fn crossed_nearby(scene: &Scene, p: usize, lm: &Lightmap, [x0, y0, x1, y1]: [u32
         lm.world(x1 as f32, y1 as f32),
         lm.world(x0 as f32, y1 as f32),
     ];
-    let centre = corners.iter().copied().sum::<Vec3>() / 4.0;
+    let centre = mean(&corners);
     let reach = (corners[2] - corners[0]).length();
     // Planes that merely touch the cell (a wall meeting the floor along its edge) do not count.
     let slack = 1e-3 * reach;
@@ -190,7 +183,7 @@ fn crossed_nearby(scene: &Scene, p: usize, lm: &Lightmap, [x0, y0, x1, y1]: [u32
         if q == p || other.normal.dot(normal).abs() > 0.999 {
             return false;
         }
-        let Some((lo, hi)) = crate::scene::bounds(&other.vertices) else {
+        let Some((lo, hi)) = bounds(&other.vertices) else {
             return false;
         };
         if centre.clamp(lo, hi).distance(centre) > reach {

@@ -2,7 +2,8 @@
 //! place, each with its reason. A reader who wants the paper's algorithm can skip this file: with
 //! [`Tuning::none`] the passes do exactly what section 3.2 describes, and every switch here
 //! leaves the answer the same (bit for bit, or to float rounding where a switch says so; the
-//! A/B tests are in `tests/reconstruction_cover.rs` and `tests/data_flow.rs`).
+//! A/B tests are in `tests/tuning.rs` and `tests/data_flow.rs`). The few that
+//! change the item buffer beyond depth ties stay on in [`Tuning::none`], and say why.
 //!
 //! Why llvmpipe needs its own tricks: it shades a block of 4×4 fragments at a time, runs both
 //! sides of every branch for the whole block, and skips a block's shader only when an early depth
@@ -33,6 +34,56 @@ pub struct Tuning {
     /// four corners, whose loops unroll (llvmpipe fetches a uniform array indexed by a run-time
     /// count lane by lane). Bit-identical; about 5 % less time per pass.
     pub unroll_quads: bool,
+    /// Reconstruction: each square of whole 4×4 blocks is drawn as one point, which llvmpipe
+    /// rasterises in one piece, block by block; off, as two triangles, whose shared diagonal
+    /// makes llvmpipe shade the blocks it crosses twice. The pass draws triangles anyway where
+    /// the driver's largest point is smaller than a block. Bit-identical.
+    pub squares_as_points: bool,
+    /// Visibility (hemicube): each face is drawn in a viewport `guard_band` times its size (an
+    /// odd number; even ones round down, and the driver's largest viewport may cap it), centred
+    /// on the face, with its frustum widened to match and the scissor keeping its own pixels.
+    /// llvmpipe clips every triangle that reaches outside the viewport and sends the whole draw
+    /// through its slow clipping path if one does; this way the triangles that cross the edge of
+    /// a face (most of the walls) need no clipping. 1: no guard band. The same pixels up to float
+    /// rounding of the vertices (the widened projection and the clipped edges round apart).
+    pub guard_band: u32,
+    /// Visibility: each view draws only the polygons whose bounding sphere reaches in front of
+    /// the shooter and (hemicube) into the face's frustum, and not the shooter's own (which the
+    /// shaders put beyond the far plane): on llvmpipe, transforming and clipping the whole scene
+    /// five times cost more than filling the pixels. What is left out would be clipped away
+    /// whole. Bit-identical.
+    pub cull_views: bool,
+    /// Visibility (hemicube): each face draws the polygons wholly inside its guarded frustum in
+    /// a draw of their own, before the others: llvmpipe takes its fast path for a draw with
+    /// nothing to clip. The draw order changes, which only depth ties can tell.
+    pub split_unclipped: bool,
+    /// Visibility (hemicube): the side faces fill only their upper halves, the part above the
+    /// shooter's horizon that the reconstruction pass looks up (`front_half`). The pixels it
+    /// reads are the same. Bit-identical.
+    pub half_side_faces: bool,
+    /// Visibility (hemicube with the robust test): coplanar neighbours outside the convex
+    /// solids (floor planks, ceiling tiles) are merged into convex plates and drawn as one
+    /// polygon under the first one's ID (`visibility::plates`): a few large triangles cost
+    /// llvmpipe much less to set up and bin than hundreds of small ones. The robust test reads
+    /// only the shown polygon's plane, which a plate shares; the pixels that change are those
+    /// whose centres lie on the joints merging removed (depth ties).
+    pub plates: bool,
+    /// Visibility (hemicube): the faces of convex solids turned away from a shooter outside them
+    /// are left out (`visibility::solids`): they can never be the first thing seen. The pixels
+    /// that change are those whose centres lie on an edge where a near and a far face meet (a
+    /// depth tie; 715 of 37.5 million on the simple room).
+    pub cull_solids: bool,
+    /// Visibility: a glFlush at the end of the pass, so that llvmpipe rasterises the item
+    /// buffer while the CPU picks the receivers (otherwise it waits until the reconstruction
+    /// binds the item buffer). Bit-identical.
+    pub flush_visibility: bool,
+    /// Visibility: 32-bit float depth rather than 24-bit integers: llvmpipe tests it without
+    /// converting (2 % of the pass's rasteriser instructions), and near-coplanar surfaces are
+    /// told apart at least as well. On in [`Tuning::none`] too: 24-bit depth quantises
+    /// differently, so the item buffer may change where surfaces lie close together (not only
+    /// at depth ties; the two rooms' lightmaps came out bit-identical, which nothing promises
+    /// for other scenes), and the paper's mode keeps the answers it has always given.
+    pub float_depth: bool,
 }
 
 impl Tuning {
@@ -43,18 +94,38 @@ impl Tuning {
             marking_pass: true,
             skip_needless_clipping: true,
             unroll_quads: true,
+            squares_as_points: true,
+            guard_band: 7,
+            cull_views: true,
+            split_unclipped: true,
+            half_side_faces: true,
+            plates: true,
+            cull_solids: true,
+            flush_visibility: true,
+            float_depth: true,
         }
     }
 
-    /// Everything off: the passes as the paper describes them (`--mode paper`). Each
-    /// reconstruction pass then clears its renderbuffers and recomputes every texel from the
-    /// lightmap textures, so that everything the copies carry was computed in that pass.
+    /// Everything off that leaves the answer as it is (all but `float_depth`): the passes as
+    /// the paper describes them (`--mode paper`). Each reconstruction pass then clears its
+    /// renderbuffers and recomputes every texel from the lightmap textures, so that everything
+    /// the copies carry was computed in that pass; each view of the visibility pass draws the
+    /// whole scene in one draw.
     pub const fn none() -> Self {
         Tuning {
             receivers_only: false,
             marking_pass: false,
             skip_needless_clipping: false,
             unroll_quads: false,
+            squares_as_points: false,
+            guard_band: 1,
+            cull_views: false,
+            split_unclipped: false,
+            half_side_faces: false,
+            plates: false,
+            cull_solids: false,
+            flush_visibility: false,
+            float_depth: true,
         }
     }
 

@@ -2,7 +2,8 @@
 //! matrix (each patch's centre to each other patch's outline, the exact polygon factor), then
 //! Jacobi iteration of L = Le + ρ F L. For convex scenes only (no visibility term).
 
-use crate::patches::{clip_convex, signed_area, PatchLayout};
+use crate::geometry::{clip_convex, rectangle, signed_area};
+use crate::patches::PatchLayout;
 use crate::scene::Scene;
 use crate::solver::form_factor;
 use glam::{Vec2, Vec3};
@@ -28,12 +29,7 @@ pub fn patches(scene: &Scene, layout: &PatchLayout) -> Vec<Patch> {
                     continue;
                 }
                 let (x0, y0) = (s as f32, t as f32);
-                let square = [
-                    Vec2::new(x0, y0),
-                    Vec2::new(x0 + 1.0, y0),
-                    Vec2::new(x0 + 1.0, y0 + 1.0),
-                    Vec2::new(x0, y0 + 1.0),
-                ];
+                let square = rectangle(Vec2::new(x0, y0), Vec2::new(x0 + 1.0, y0 + 1.0));
                 let clipped = clip_convex(&square, &shape)
                     .filter(|c| c.len() >= 3 && signed_area(c) > 0.0)
                     .unwrap_or(square.to_vec());

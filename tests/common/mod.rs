@@ -2,8 +2,9 @@
 #![allow(dead_code)]
 
 use glam::{Vec2, Vec3};
+use gpu_radiosity::geometry::{flatten, point_in_polygon};
 use gpu_radiosity::gl::{BackendChoice, GlContext};
-use gpu_radiosity::patches::{inside, PatchLayout, Resolution};
+use gpu_radiosity::patches::{PatchLayout, Resolution};
 use gpu_radiosity::scene::{load_obj, Polygon, Scene};
 use std::path::PathBuf;
 
@@ -39,12 +40,8 @@ pub fn hit(polygon: &Polygon, origin: Vec3, dir: Vec3) -> Option<f32> {
     let p = origin + dir * t;
     let u = (polygon.vertices[1] - polygon.vertices[0]).normalize();
     let v = polygon.normal.cross(u);
-    let flat: Vec<Vec2> = polygon
-        .vertices
-        .iter()
-        .map(|q| Vec2::new(q.dot(u), q.dot(v)))
-        .collect();
-    inside(&flat, Vec2::new(p.dot(u), p.dot(v))).then_some(t)
+    let flat: Vec<Vec2> = flatten(&polygon.vertices, u, v).collect();
+    point_in_polygon(&flat, Vec2::new(p.dot(u), p.dot(v))).then_some(t)
 }
 
 /// The nearest polygon along a ray, skipping `skip`.

@@ -4,25 +4,14 @@
 //! that faces away can never be the first thing a ray meets: a ray reaching it from behind is
 //! inside the volume, so it entered earlier through a face that faces the point (or through the
 //! cap, which is met first). The hemicube's visibility pass leaves such polygons out
-//! (`VisibilityPass`), and its item buffer stays the same; not the hemispherical projection's,
-//! whose straight-drawn edges do not let the near faces cover the far ones exactly.
+//! (`Tuning::cull_solids`), and its item buffer stays the same; not the hemispherical
+//! projection's, whose straight-drawn edges do not let the near faces cover the far ones
+//! exactly.
 
-use super::Scene;
+use crate::geometry::{mean, Plane};
+use crate::scene::Scene;
 use glam::Vec3;
 use std::collections::HashMap;
-
-/// A plane `n·x = d` (unit normal pointing out of the volume).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Plane {
-    pub normal: Vec3,
-    pub offset: f32,
-}
-
-impl Plane {
-    pub fn distance(&self, p: Vec3) -> f32 {
-        self.normal.dot(p) - self.offset
-    }
-}
 
 #[derive(Clone, Debug, Default)]
 pub struct Solids {
@@ -37,15 +26,8 @@ pub struct Solids {
 impl Solids {
     /// Find the scene's convex solids.
     pub fn find(scene: &Scene) -> Solids {
-        let (lo, hi) = scene.bounds();
-        let slack = 1e-5 * (hi - lo).length();
-        let plane_of = |p: usize| {
-            let q = &scene.polygons[p];
-            Plane {
-                normal: q.normal,
-                offset: q.normal.dot(q.centroid),
-            }
-        };
+        let slack = scene.plane_slack();
+        let plane_of = |p: usize| scene.polygons[p].plane();
         let mut objects: HashMap<&str, Vec<usize>> = HashMap::new();
         for (i, p) in scene.polygons.iter().enumerate() {
             objects.entry(p.object.as_str()).or_default().push(i);
@@ -95,19 +77,13 @@ impl Solids {
                 continue; // more than two faces at an edge: not a simple closed surface
             }
             if !open.is_empty() {
-                let inside = corners.iter().fold(Vec3::ZERO, |s, &c| s + c) / corners.len() as f32;
+                let inside = mean(&corners);
                 let cap = (0..scene.polygons.len())
                     .filter(|p| !members.contains(p))
                     .find(|&p| covers(scene, p, &open, inside, slack));
                 match cap {
                     // Seen from the volume, the cap's plane faces outwards the other way.
-                    Some(p) => {
-                        let pl = plane_of(p);
-                        planes.push(Plane {
-                            normal: -pl.normal,
-                            offset: -pl.offset,
-                        });
-                    }
+                    Some(p) => planes.push(plane_of(p).flipped()),
                     None => continue,
                 }
             }
@@ -137,11 +113,11 @@ impl Solids {
 /// and faces `inside`, the volume it would close.
 fn covers(scene: &Scene, p: usize, open: &[Vec3], inside: Vec3, slack: f32) -> bool {
     let q = &scene.polygons[p];
-    let d = q.normal.dot(q.centroid);
-    if q.normal.dot(inside) - d <= slack {
+    let plane = q.plane();
+    if plane.distance(inside) <= slack {
         return false;
     }
-    if open.iter().any(|&o| (q.normal.dot(o) - d).abs() > slack) {
+    if open.iter().any(|&o| plane.distance(o).abs() > slack) {
         return false;
     }
     let n = q.vertices.len();

@@ -12,18 +12,28 @@
 //!   |  disk  |                 | front |  +x   |  -x   |  +y   |  -y   |
 //!   +--------+                 +-------+-------+-------+-------+-------+
 //! ```
+//!
+//! The paper draws the whole scene into each view. What this pass does besides, for llvmpipe's
+//! sake, is switched by [`Tuning`] (each switch documented there): views culled by bounding
+//! spheres, a guard band around each hemicube face, draws split by whether they need clipping,
+//! half side faces, coplanar neighbours drawn as one plate (`plates`), the far faces of convex
+//! solids left out (`solids`), float depth, and a glFlush at the end.
+
+pub mod plates;
+pub mod solids;
 
 use super::mesh::{SceneMesh, ATTRIBUTES};
-use super::{Shooter, VisibilityKind};
+use super::{Shooter, Tuning, VisibilityKind};
+use crate::geometry::{mean, sphere_around, Plane};
 use crate::gl::{
     Framebuffer, GlContext, GlError, IndexStream, Program, Renderbuffer, Texture, TextureFormat,
 };
 use crate::glsl;
-use crate::scene::plates::Plates;
-use crate::scene::solids::{Plane, Solids};
 use crate::scene::Scene;
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
+use plates::Plates;
+use solids::Solids;
 
 pub struct VisibilityPass {
     program: Program,
@@ -33,11 +43,11 @@ pub struct VisibilityPass {
     _depth: Renderbuffer,
     fbo: Framebuffer,
     resolution: i32,
-    /// Each hemicube face is drawn in a viewport `guard` times its size, centred on it, with its
-    /// frustum widened to match and the scissor keeping its own pixels (odd, so that the face
-    /// stays on whole pixels). llvmpipe clips every triangle that reaches outside the viewport
-    /// and sends the whole draw through its slow clipping path if one does; this way the
-    /// triangles that cross the edge of a face (most of the walls) need no clipping.
+    /// The speed switches this pass reads (see [`Tuning`]).
+    tuning: Tuning,
+    /// Each hemicube face is drawn in a viewport `guard` times its size, centred on it
+    /// (`Tuning::guard_band`, made odd so that the face stays on whole pixels, and no wider than
+    /// the driver's viewport; 1 on the hemisphere).
     guard: i32,
     near_far: [f32; 2],
     /// Each polygon's bounding sphere (centre, radius), for culling.
@@ -51,23 +61,17 @@ pub struct VisibilityPass {
     clipped: Vec<u32>,
     stream: IndexStream,
     /// The scene's convex solids, whose faces turned away from the shooter are left out (see
-    /// `scene::solids`: the item buffer stays the same).
+    /// `solids`: the item buffer stays the same).
     solids: Solids,
     /// Each polygon's plane.
     planes: Vec<Plane>,
     /// Per solid, whether the current shooter is clear of it (reused).
     outside: Vec<bool>,
-    /// Leave out the solids' far faces (on by default; off to compare item buffers).
-    pub cull_solids: bool,
     /// Coplanar polygons drawn as one (`merge_plates`; at first every polygon alone).
     plates: Plates,
 }
 
 pub const NAME: &str = "visibility";
-
-/// Widest guard band (see `VisibilityPass::guard`): a face's frustum reaches 82° from its axis.
-/// Wider gains nothing measurable on the Table 1 rooms.
-const GUARD: i32 = 7;
 
 /// The pixels of hemicube face `k` (x, y, width, height within the face) that look above the
 /// shooter's horizon: all of the front face, half of each side face (see `face_rotations`:
@@ -100,11 +104,11 @@ impl VisibilityPass {
         ctx: &GlContext,
         kind: VisibilityKind,
         resolution: u32,
+        tuning: Tuning,
         scene: &Scene,
     ) -> Result<Self, GlError> {
         let gl = &ctx.gl;
-        let (lo, hi) = scene.bounds();
-        let scene_size = (hi - lo).length();
+        let scene_size = scene.size();
         let spheres = scene.polygons.iter().map(|p| p.bounding_sphere()).collect();
         let vertex = match kind {
             VisibilityKind::Hemisphere => glsl!("hemiproj.vert"),
@@ -126,10 +130,13 @@ impl VisibilityPass {
         };
         // NEAREST: an ID must never be blended with its neighbour's.
         let item_buffer = Texture::new(gl, width, res, TextureFormat::Rgba8, glow::NEAREST)?;
-        // Float depth (GL 3.0): llvmpipe tests it without converting to 24-bit integers (2 % of
-        // the pass's rasteriser instructions), and near-coplanar surfaces are told apart at least
-        // as well; the item buffers of the bundled rooms came out the same.
-        let depth = Renderbuffer::new(gl, glow::DEPTH_COMPONENT32F, width, res)?;
+        // Float depth (GL 3.0) or 24-bit integers: `Tuning::float_depth`.
+        let depth_format = if tuning.float_depth {
+            glow::DEPTH_COMPONENT32F
+        } else {
+            glow::DEPTH_COMPONENT24
+        };
+        let depth = Renderbuffer::new(gl, depth_format, width, res)?;
         let fbo = Framebuffer::new(gl)?;
         fbo.attach_texture(glow::COLOR_ATTACHMENT0, &item_buffer);
         fbo.attach_renderbuffer(glow::DEPTH_ATTACHMENT, &depth);
@@ -142,8 +149,9 @@ impl VisibilityPass {
         let mut dims = [0; 2];
         unsafe { gl.get_parameter_i32_slice(glow::MAX_VIEWPORT_DIMS, &mut dims) };
         let fits = (dims[0].min(dims[1]) / res.max(1)).max(1);
+        let wanted = tuning.guard_band.clamp(1, i32::MAX as u32) as i32;
         let guard = if kind == VisibilityKind::Hemicube {
-            (fits.min(GUARD) - 1) / 2 * 2 + 1
+            (fits.min(wanted) - 1) / 2 * 2 + 1
         } else {
             1
         };
@@ -154,6 +162,7 @@ impl VisibilityPass {
             _depth: depth,
             fbo,
             resolution: res,
+            tuning,
             guard,
             near_far,
             spheres,
@@ -162,36 +171,24 @@ impl VisibilityPass {
             clipped: Vec::new(),
             stream: IndexStream::new(gl)?,
             solids: Solids::find(scene),
-            planes: scene
-                .polygons
-                .iter()
-                .map(|p| Plane {
-                    normal: p.normal,
-                    offset: p.normal.dot(p.centroid),
-                })
-                .collect(),
+            planes: scene.polygons.iter().map(|p| p.plane()).collect(),
             outside: Vec::new(),
-            cull_solids: true,
             plates: Plates::none(scene.polygons.len()),
         })
     }
 
-    /// Merge coplanar polygons outside the solids into plates (hemicube only: the hemispherical
-    /// projection needs small polygons, and bigger ones would curve more). The caller then
-    /// draws a mesh made by `mesh::plate_data` from the plates returned; the item buffer shows
-    /// each plate under its representative's ID. Only for the robust visibility test, which
-    /// reads the shown polygon's plane, not its ID alone.
+    /// Merge coplanar polygons outside the solids into plates (`Tuning::plates`; hemicube only:
+    /// the hemispherical projection needs small polygons, and bigger ones would curve more). The
+    /// caller then draws a mesh made by `mesh::plate_data` from the plates returned; the item
+    /// buffer shows each plate under its representative's ID. Only for the robust visibility
+    /// test, which reads the shown polygon's plane, not its ID alone. With the switch off every
+    /// polygon stays alone, and `plate_data` gives the scene's own mesh.
     pub fn merge_plates(&mut self, scene: &Scene) -> &Plates {
-        if self.kind == VisibilityKind::Hemicube {
+        if self.kind == VisibilityKind::Hemicube && self.tuning.plates {
             let solids = &self.solids;
             self.plates = Plates::find(scene, |p| solids.solid_of[p].is_none());
             for (&p, outline) in &self.plates.outlines {
-                let centre = outline.iter().fold(Vec3::ZERO, |s, &v| s + v) / outline.len() as f32;
-                let radius = outline
-                    .iter()
-                    .map(|v| v.distance(centre))
-                    .fold(0.0, f32::max);
-                self.spheres[p] = (centre, radius);
+                self.spheres[p] = sphere_around(mean(outline), outline);
             }
         }
         &self.plates
@@ -202,11 +199,10 @@ impl VisibilityPass {
         self.plates.representative[p]
     }
 
-    /// Draw the item buffer from `shooter`. Each view draws only the polygons whose bounding
-    /// sphere reaches into it and in front of the shooter (on llvmpipe, transforming and
-    /// clipping the whole scene five times cost more than filling the pixels), and the hemicube's
-    /// side faces fill only their upper halves, the part above the shooter's horizon that the
-    /// reconstruction pass looks up.
+    /// Draw the item buffer from `shooter`. With `Tuning::cull_views` each view draws only the
+    /// polygons whose bounding sphere reaches into it and in front of the shooter, and with
+    /// `Tuning::half_side_faces` the hemicube's side faces fill only their upper halves, the
+    /// part above the shooter's horizon that the reconstruction pass looks up.
     pub fn run(
         &mut self,
         ctx: &GlContext,
@@ -228,24 +224,26 @@ impl VisibilityPass {
         // Clear of the near plane too: geometry nearer than it is clipped away, and a clipped
         // near face would show the far face behind it. On a face axis, depth ≥ distance / √3.
         let margin = self.near_far[0] * 3f32.sqrt();
+        let tuning = self.tuning;
         self.outside.extend(
             // Only where projected straight edges are exact (the hemicube): the hemispherical
             // projection drawn with straight edges lets a far face peek past the near ones.
             (0..solids.count()).map(|k| {
-                self.cull_solids
+                tuning.cull_solids
                     && self.kind == VisibilityKind::Hemicube
                     && solids.clear_of(k, s, margin)
             }),
         );
         self.in_front.clear();
-        // The shooter's plate lies in the shooter's plane, which the near plane clips away.
+        // The shooter's plate lies in the shooter's plane, which the near plane clips away (and
+        // the shaders put it beyond the far plane).
         let shooter_plate = self.plates.representative[shooter.polygon];
         for (p, &(centre, radius)) in self.spheres.iter().enumerate() {
-            if self.plates.representative[p] != p || p == shooter_plate {
+            if self.plates.representative[p] != p {
                 continue;
             }
             let c = view.transform_point3(centre);
-            if c.z >= radius {
+            if tuning.cull_views && (p == shooter_plate || c.z >= radius) {
                 continue;
             }
             // A solid's face turned away from a shooter outside the solid hides nothing.
@@ -257,7 +255,8 @@ impl VisibilityPass {
             self.in_front.push((p, c, radius));
         }
         // Per view: the first index, the polygons wholly inside the guarded frustum and beyond
-        // the near plane (no vertex to clip: llvmpipe's fast path), then the others.
+        // the near plane (no vertex to clip: llvmpipe's fast path), then the others; without
+        // `split_unclipped`, all of them as "others", in the scene's order.
         let mut ranges = [(0usize, 0usize, 0usize); 5];
         let g = self.guard as f32;
         let side = (1.0 + g * g).sqrt();
@@ -273,11 +272,13 @@ impl VisibilityPass {
                     // and (0, ±1, -1)/√2 in face space).
                     let f = rotations[k] * c;
                     let reach = radius * std::f32::consts::SQRT_2;
-                    if -f.z - f.x.abs() < -reach || -f.z - f.y.abs() < -reach {
+                    if tuning.cull_views && (-f.z - f.x.abs() < -reach || -f.z - f.y.abs() < -reach)
+                    {
                         continue;
                     }
                     // Inside the guarded side planes (normals (±1, 0, -g)/√(1 + g²), ...).
-                    inside = -f.z - radius > 2.0 * near
+                    inside = tuning.split_unclipped
+                        && -f.z - radius > 2.0 * near
                         && -g * f.z - f.x.abs() > radius * side
                         && -g * f.z - f.y.abs() > radius * side;
                 }
@@ -333,13 +334,18 @@ impl VisibilityPass {
                     let x = k as i32 * r;
                     unsafe {
                         gl.viewport(x - margin, -margin, g * r, g * r);
-                        let [sx, sy, sw, sh] = front_half(k, r);
+                        let [sx, sy, sw, sh] = if tuning.half_side_faces {
+                            front_half(k, r)
+                        } else {
+                            [0, 0, r, r]
+                        };
                         gl.scissor(x + sx, sy, sw, sh);
                     }
                     let m = projection * Mat4::from_mat3(*rotation) * view;
                     self.program
                         .set_mat4("FaceViewProjection", &m.to_cols_array());
-                    // Two draws: llvmpipe takes its fast path for a draw with nothing to clip.
+                    // Two draws (`split_unclipped`): llvmpipe takes its fast path for a draw
+                    // with nothing to clip.
                     let (start, unclipped, clipped) = ranges[k];
                     for (first, count) in [(start, unclipped), (start + unclipped, clipped)] {
                         if count > 0 {
@@ -353,10 +359,11 @@ impl VisibilityPass {
         unsafe {
             gl.disable(glow::DEPTH_TEST);
             gl.bind_framebuffer(glow::FRAMEBUFFER, None);
-            // Rasterise now: llvmpipe queues the pass and returns, so the CPU picks the
-            // receivers meanwhile (otherwise the pass waits until the reconstruction binds the
-            // item buffer).
-            gl.flush();
+            // Rasterise now (`flush_visibility`): llvmpipe queues the pass and returns, so the
+            // CPU picks the receivers meanwhile.
+            if tuning.flush_visibility {
+                gl.flush();
+            }
         }
         ctx.check(NAME)
     }

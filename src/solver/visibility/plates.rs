@@ -5,8 +5,7 @@
 //! of a plate shares, so it answers the same for every receiver; on llvmpipe a few large
 //! triangles cost much less to set up and bin than hundreds of small ones.
 
-use super::solids::Plane;
-use super::Scene;
+use crate::scene::Scene;
 use glam::Vec3;
 use std::collections::HashMap;
 
@@ -30,8 +29,7 @@ impl Plates {
     /// Merge the coplanar neighbours among `candidates` (polygons that may be merged).
     pub fn find(scene: &Scene, candidates: impl Fn(usize) -> bool) -> Plates {
         let n = scene.polygons.len();
-        let (lo, hi) = scene.bounds();
-        let slack = 1e-5 * (hi - lo).length();
+        let slack = scene.plane_slack();
         let mut plates = Plates::none(n);
         // Coplanar groups: same plane up to float noise (keys rounded; neighbours across a
         // rounding boundary just stay apart).
@@ -40,7 +38,7 @@ impl Plates {
             if !candidates(i) {
                 continue;
             }
-            let d = p.normal.dot(p.centroid);
+            let d = p.plane().offset;
             let key = [
                 (p.normal.x * 1e4).round() as i64,
                 (p.normal.y * 1e4).round() as i64,
@@ -56,13 +54,7 @@ impl Plates {
             if members.len() < 2 {
                 continue;
             }
-            let plane = {
-                let p = &scene.polygons[members[0]];
-                Plane {
-                    normal: p.normal,
-                    offset: p.normal.dot(p.centroid),
-                }
-            };
+            let plane = scene.polygons[members[0]].plane();
             // Each live plate: (representative, outline, polygons).
             let mut live: Vec<(usize, Vec<Vec3>, Vec<usize>)> = members
                 .iter()

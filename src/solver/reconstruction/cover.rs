@@ -1,0 +1,286 @@
+//! What a reconstruction pass draws: aligned squares of whole 4×4 texel blocks covering the
+//! blocks it needs (found on a summed-area table of the blocks, `Cover`), as points or triangle
+//! pairs (`Squares`).
+//!
+//! Why squares and not the receivers' rectangles: a rectangle is two triangles, and llvmpipe
+//! shades every block its diagonal crosses once for each; a thin rectangle of lightmaps costs
+//! about twice its area. A square drawn as one point is shaded block by block, once
+//! (`Tuning::squares_as_points`).
+
+use crate::gl::objects::Attribute;
+use crate::gl::{Gl, GlError, Mesh};
+use glow::HasContext;
+
+/// Squares are made of whole blocks of 4×4 texels: llvmpipe shades a block of 4×4 fragments at a
+/// time, all of them, even where the primitive covers one.
+pub(super) const BLOCK: u32 = 4;
+/// Larger squares would be drawn partly over blocks that need nothing.
+const LARGEST_SQUARE: u32 = 64;
+
+/// The squares a pass draws (rebuilt every pass), in two runs: those drawn with the shader that
+/// clips the shooter to the receiver's plane, then those drawn without.
+pub(super) struct Squares {
+    /// Points (centre, side) or two triangles each (corner, 0).
+    mesh: Mesh,
+    vertices: Vec<f32>,
+    cover: Cover,
+    /// How many of `vertices` draw with the clipping shader (the rest without).
+    clipped_vertices: i32,
+    /// Largest square side drawn, texels (a power of two, at least `BLOCK`).
+    largest: u32,
+    /// Whether the driver's points are large enough for a block.
+    points_fit: bool,
+    /// Whether the last squares were built as points.
+    as_points: bool,
+    /// The viewport: the atlas rounded up to whole largest squares, so that every square's
+    /// centre lies inside it (a point whose centre is clipped away draws nothing); the scissor
+    /// keeps fragments inside the atlas.
+    pub(super) viewport: (i32, i32),
+}
+
+impl Squares {
+    /// Squares over an atlas of `width` × `height` texels.
+    pub(super) fn new(gl: &Gl, width: i32, height: i32) -> Result<Self, GlError> {
+        let mesh = Mesh::new(
+            gl,
+            &[],
+            3,
+            &[
+                Attribute {
+                    location: 0,
+                    size: 2,
+                    offset: 0,
+                },
+                Attribute {
+                    location: 1,
+                    size: 1,
+                    offset: 2,
+                },
+            ],
+        )?;
+        let mut point_range = [0.0f32; 2];
+        unsafe { gl.get_parameter_f32_slice(glow::ALIASED_POINT_SIZE_RANGE, &mut point_range) };
+        let points_fit = point_range[1] >= BLOCK as f32;
+        let largest = if points_fit {
+            let fits = 1u32 << (point_range[1] as u32).ilog2();
+            fits.clamp(BLOCK, LARGEST_SQUARE)
+        } else {
+            LARGEST_SQUARE
+        };
+        let round_up = |t: i32| (t as u32).div_ceil(largest) as i32 * largest as i32;
+        Ok(Squares {
+            mesh,
+            vertices: Vec::new(),
+            cover: Cover::default(),
+            clipped_vertices: 0,
+            largest,
+            points_fit,
+            as_points: points_fit,
+            viewport: (round_up(width), round_up(height)),
+        })
+    }
+
+    /// Cover the blocks (`flags`: rows of `wide` blocks) that `clipped` picks, then those that
+    /// `above` picks, as points when `points` asks and the driver allows, and upload them.
+    pub(super) fn build(
+        &mut self,
+        flags: &[u8],
+        wide: usize,
+        points: bool,
+        clipped: impl Fn(&u8) -> bool,
+        above: impl Fn(&u8) -> bool,
+    ) {
+        self.as_points = points && self.points_fit;
+        self.vertices.clear();
+        let (size, points) = (self.viewport, self.as_points);
+        let vertices = &mut self.vertices;
+        let largest = self.largest;
+        self.cover
+            .squares(flags, wide, largest, clipped, |x, y, side| {
+                push_square(vertices, points, size, x, y, side)
+            });
+        self.clipped_vertices = vertices.len() as i32 / 3;
+        self.cover
+            .squares(flags, wide, largest, above, |x, y, side| {
+                push_square(vertices, points, size, x, y, side)
+            });
+        self.mesh.replace(&self.vertices, 3);
+    }
+
+    /// Whether the last squares were built as points.
+    pub(super) fn as_points(&self) -> bool {
+        self.as_points
+    }
+
+    /// The primitive they are drawn with.
+    pub(super) fn mode(&self) -> u32 {
+        if self.as_points {
+            glow::POINTS
+        } else {
+            glow::TRIANGLES
+        }
+    }
+
+    /// The vertex ranges (first, count) of the squares drawn with clipping and without.
+    pub(super) fn runs(&self) -> [(i32, i32); 2] {
+        let (split, total) = (self.clipped_vertices, self.mesh.vertex_count);
+        [(0, split), (split, total - split)]
+    }
+
+    /// Draw every square (the marking pass).
+    pub(super) fn draw_all(&self) {
+        self.draw(0, self.mesh.vertex_count);
+    }
+
+    pub(super) fn draw(&self, first: i32, count: i32) {
+        self.mesh.draw_arrays(self.mode(), first, count);
+    }
+
+    /// How many squares the last pass drew with the clipping shader and with the other.
+    pub(super) fn drawn(&self) -> (usize, usize) {
+        let per_square = if self.as_points { 1 } else { 6 };
+        let clipped = self.clipped_vertices as usize / per_square;
+        let all = self.mesh.vertex_count as usize / per_square;
+        (clipped, all - clipped)
+    }
+}
+
+/// The vertices of square (`x`, `y`, `side`, texels) in a viewport of `size` texels: one point
+/// (centre, side) or two triangles (corner, 0).
+fn push_square(vertices: &mut Vec<f32>, points: bool, size: (i32, i32), x: u32, y: u32, side: u32) {
+    let ndc = |t: u32, extent: i32| t as f32 / extent as f32 * 2.0 - 1.0;
+    if points {
+        // A point's centre; an even-sided point covers the pixels centred within side/2.
+        let (cx, cy) = (ndc(x * 2 + side, size.0 * 2), ndc(y * 2 + side, size.1 * 2));
+        vertices.extend_from_slice(&[cx, cy, side as f32]);
+    } else {
+        let (x0, y0) = (ndc(x, size.0), ndc(y, size.1));
+        let (x1, y1) = (ndc(x + side, size.0), ndc(y + side, size.1));
+        for [u, v] in [[x0, y0], [x1, y0], [x1, y1], [x0, y0], [x1, y1], [x0, y1]] {
+            vertices.extend_from_slice(&[u, v, 0.0]);
+        }
+    }
+}
+
+/// Covers blocks with squares (see `Cover::squares`); keeps its scratch space between passes.
+#[derive(Default)]
+struct Cover {
+    /// Summed-area table of the set blocks: entry (x, y) counts those in [0, x) × [0, y).
+    sums: Vec<u32>,
+    stack: Vec<(usize, usize, usize)>,
+}
+
+impl Cover {
+    /// Cover the blocks for which `is_set` holds (`blocks`: rows of `wide` blocks) with aligned
+    /// squares of whole blocks, none larger than `largest` texels, each block exactly once:
+    /// `emit(x, y, side)` in texels. A square is split into its four quarters unless all of its
+    /// blocks inside the grid are set.
+    fn squares<T>(
+        &mut self,
+        blocks: &[T],
+        wide: usize,
+        largest: u32,
+        is_set: impl Fn(&T) -> bool,
+        mut emit: impl FnMut(u32, u32, u32),
+    ) {
+        let high = blocks.len() / wide.max(1);
+        let row = wide + 1;
+        self.sums.clear();
+        self.sums.resize(row * (high + 1), 0);
+        for y in 0..high {
+            let mut run = 0;
+            for x in 0..wide {
+                run += is_set(&blocks[y * wide + x]) as u32;
+                self.sums[(y + 1) * row + x + 1] = self.sums[y * row + x + 1] + run;
+            }
+        }
+        let sums = &self.sums;
+        let count = |x0: usize, y0: usize, x1: usize, y1: usize| {
+            sums[y1 * row + x1] + sums[y0 * row + x0] - sums[y0 * row + x1] - sums[y1 * row + x0]
+        };
+        let top = (largest / BLOCK) as usize;
+        for y in (0..high).step_by(top) {
+            for x in (0..wide).step_by(top) {
+                self.stack.push((x, y, top));
+                while let Some((x, y, side)) = self.stack.pop() {
+                    let (x1, y1) = ((x + side).min(wide), (y + side).min(high));
+                    let set = count(x, y, x1, y1) as usize;
+                    if set == 0 {
+                        continue;
+                    }
+                    if set == (x1 - x) * (y1 - y) {
+                        let t = |b: usize| b as u32 * BLOCK;
+                        emit(t(x), t(y), t(side));
+                        continue;
+                    }
+                    let half = side / 2;
+                    for (dx, dy) in [(0, 0), (half, 0), (0, half), (half, half)] {
+                        if x + dx < wide && y + dy < high {
+                            self.stack.push((x + dx, y + dy, half));
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cover_draws_every_set_block_once_and_nothing_else() {
+        // 37 x 23 blocks (not a multiple of any square), a pseudo-random pattern with solid
+        // patches, so that squares of every size appear.
+        let (wide, high) = (37usize, 23usize);
+        let blocks: Vec<bool> = (0..wide * high)
+            .map(|i| {
+                let (x, y) = (i % wide, i / wide);
+                (x < 20 && y < 17) || (x * 7 + y * 13) % 5 < 2
+            })
+            .collect();
+        let mut drawn = vec![0u32; blocks.len()];
+        let mut sides = std::collections::BTreeSet::new();
+        Cover::default().squares(
+            &blocks,
+            wide,
+            LARGEST_SQUARE,
+            |&b| b,
+            |x, y, side| {
+                assert!(
+                    x % side == 0 && y % side == 0,
+                    "square {x},{y} side {side} unaligned"
+                );
+                sides.insert(side);
+                let b = |t: u32| (t / BLOCK) as usize;
+                for by in b(y)..b(y + side).min(high) {
+                    for bx in b(x)..b(x + side).min(wide) {
+                        drawn[by * wide + bx] += 1;
+                    }
+                }
+            },
+        );
+        for (i, (&set, &n)) in blocks.iter().zip(&drawn).enumerate() {
+            assert_eq!(n, set as u32, "block {i}: set {set}, drawn {n} times");
+        }
+        assert!(sides.len() >= 3, "sides used: {sides:?}");
+    }
+
+    #[test]
+    fn a_square_as_a_point_or_two_triangles_covers_the_same_texels() {
+        // A 16-texel square at (8, 4) in a 64 × 32 viewport: the point's centre is the triangles'
+        // centre, its size their side.
+        let (mut point, mut triangles) = (Vec::new(), Vec::new());
+        push_square(&mut point, true, (64, 32), 8, 4, 16);
+        push_square(&mut triangles, false, (64, 32), 8, 4, 16);
+        assert_eq!(point.len(), 3);
+        assert_eq!(triangles.len(), 18);
+        let corners: Vec<[f32; 2]> = triangles.chunks(3).map(|v| [v[0], v[1]]).collect();
+        let (lo, hi) = (corners[0], corners[2]);
+        assert_eq!(point[0], 0.5 * (lo[0] + hi[0]));
+        assert_eq!(point[1], 0.5 * (lo[1] + hi[1]));
+        assert_eq!(point[2], 16.0);
+        assert_eq!((hi[0] - lo[0]) * 64.0 / 2.0, 16.0);
+    }
+}

@@ -1,0 +1,419 @@
+//! Reconstruction pass (paper 3.2.2): every receiver drawn orthographically onto its lightmap
+//! texels, into an FBO whose colour attachments are *renderbuffers* the size of the atlas. The
+//! fragment shader tests visibility against the item buffer, computes the form factor and the
+//! received energy, and adds it to the patch's current values, which it reads from the lightmap
+//! textures (the paper's GL_ADD); `copy_into` then copies the sums back into the lightmap
+//! textures with glCopyTexSubImage2D, where the next pass and Find_Max_Energy read them.
+//!
+//! ```text
+//!   lightmap textures ──sampled──▶ reconstruct.frag ──old + ΔL──▶ renderbuffers (FBO)
+//!          ▲                                                            │
+//!          └──────────────────── glCopyTexSubImage2D ◀─────────────────┘
+//! ```
+//!
+//! The receivers are rasterised once, at initialisation, into atlas textures holding each patch's
+//! position, normal and reflectance (`patch_data.rs`, with the polygons' planes); every pass
+//! then picks the blocks to draw (`receivers.rs`) and draws squares of whole 4×4 texel blocks
+//! covering them (`cover.rs`). With `Tuning::none()` (the paper's mode) every patch is drawn
+//! every pass, into renderbuffers cleared first. The speed switches of `Tuning` draw only the
+//! receivers' blocks, and run a marking pass so that only the texels the shooter sees compute
+//! form factors; the texels they leave alone keep the renderbuffers' values, which the last
+//! copy also put into the textures.
+//!
+//! Two attachments: 0 = radiosity + ΔL, 1 = unshot + ΔL (zero for the texels that shoot).
+
+mod cover;
+mod patch_data;
+mod receivers;
+
+use super::mesh::ATTRIBUTES;
+use super::visibility::VisibilityPass;
+use super::{FormFactorKind, Shooter, SolveOptions, Tuning, VisibilityKind, MAX_CORNERS};
+use crate::gl::program::Source;
+use crate::gl::{
+    Framebuffer, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
+};
+use crate::glsl;
+use crate::patches::PatchLayout;
+use crate::scene::Scene;
+use cover::Squares;
+use glow::HasContext;
+use patch_data::{PatchData, PolygonPlanes};
+use receivers::Receivers;
+
+pub const NAME: &str = "reconstruction";
+pub const INIT_NAME: &str = "initialisation";
+pub const COPY_NAME: &str = "accumulation";
+
+/// The two lightmap atlases of section 3.1: accumulated and unshot radiance (RGBA32F, alpha =
+/// polygon ID + 1). The reconstruction pass samples them; the copies after it replace them.
+pub struct Lightmaps {
+    pub radiosity: Texture,
+    pub unshot: Texture,
+}
+
+impl Lightmaps {
+    pub fn new(ctx: &GlContext, width: i32, height: i32) -> Result<Self, GlError> {
+        let make = || {
+            Texture::new(
+                &ctx.gl,
+                width,
+                height,
+                TextureFormat::Rgba32F,
+                glow::NEAREST,
+            )
+        };
+        Ok(Lightmaps {
+            radiosity: make()?,
+            unshot: make()?,
+        })
+    }
+}
+
+/// The pass's programs: `glsl/reconstruct.frag` in its variants, and the emission shader.
+struct Programs {
+    /// The shader as the paper has it: visibility, form factor and GL_ADD in one program, for any
+    /// corner count and for quadrilateral shooters (`CORNERS`).
+    literal: [Program; 2],
+    /// The same after a marking pass (`MARKED`: visibility already tested), clipping the shooter
+    /// to each receiver's tangent plane.
+    marked: [Program; 2],
+    /// The same, compiled for receivers that have the whole shooter above that plane (no
+    /// clipping: a third fewer shader instructions on llvmpipe; see `glsl/reconstruct.frag`).
+    above: [Program; 2],
+    /// The marking pass (`MARK`): writes depth where a texel can receive, so that
+    /// the programs above shade only those texels' blocks.
+    marking: Program,
+    /// Writes each patch's emitted radiance (and its polygon ID in alpha) at initialisation.
+    emission: Program,
+}
+
+impl Programs {
+    fn new(ctx: &GlContext) -> Result<Self, GlError> {
+        let gl = &ctx.gl;
+        let squares_in = &[(0, "Corner"), (1, "Size")];
+        let compile =
+            |source: Source| Program::new(gl, glsl!("atlas.vert"), source, squares_in, OUTPUTS);
+        let frag = || glsl!("reconstruct.frag");
+        let literal = [compile(frag())?, compile(frag().define("CORNERS", 4))?];
+        let marked = || frag().define("MARKED", 1);
+        let above = || marked().define("SHOOTER_ABOVE", 1);
+        Ok(Programs {
+            literal,
+            marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
+            above: [compile(above())?, compile(above().define("CORNERS", 4))?],
+            marking: compile(frag().define("MARK", 1))?,
+            emission: Program::new(
+                gl,
+                glsl!("lightmap.vert"),
+                glsl!("emission.frag"),
+                ATTRIBUTES,
+                OUTPUTS,
+            )?,
+        })
+    }
+}
+
+/// The two outputs: 0 = radiosity + ΔL, 1 = unshot + ΔL (zero for the texels that shoot).
+const OUTPUTS: &[(u32, &str)] = &[(0, "NewRadiosity"), (1, "NewUnshot")];
+
+/// What the pass draws into: an FBO of two RGBA32F renderbuffers the size of the atlas (the
+/// outputs), and a depth renderbuffer for the marking pass.
+struct Renderbuffers {
+    fbo: Framebuffer,
+    _radiosity: Renderbuffer,
+    _unshot: Renderbuffer,
+    _marks: Renderbuffer,
+    width: i32,
+    height: i32,
+}
+
+impl Renderbuffers {
+    fn new(ctx: &GlContext, width: i32, height: i32) -> Result<Self, GlError> {
+        let gl = &ctx.gl;
+        let radiosity = Renderbuffer::new(gl, glow::RGBA32F, width, height)?;
+        let unshot = Renderbuffer::new(gl, glow::RGBA32F, width, height)?;
+        let fbo = Framebuffer::new(gl)?;
+        fbo.attach_renderbuffer(glow::COLOR_ATTACHMENT0, &radiosity);
+        fbo.attach_renderbuffer(glow::COLOR_ATTACHMENT1, &unshot);
+        let marks = Renderbuffer::new(gl, glow::DEPTH_COMPONENT32F, width, height)?;
+        fbo.attach_renderbuffer(glow::DEPTH_ATTACHMENT, &marks);
+        fbo.check_complete(NAME)?;
+        Ok(Renderbuffers {
+            fbo,
+            _radiosity: radiosity,
+            _unshot: unshot,
+            _marks: marks,
+            width,
+            height,
+        })
+    }
+
+    /// Bind the FBO for drawing both outputs; `clear` zeroes them.
+    fn begin(&self, ctx: &GlContext, clear: bool) {
+        draw_flat(
+            ctx,
+            &self.fbo,
+            &[glow::COLOR_ATTACHMENT0, glow::COLOR_ATTACHMENT1],
+            self.width,
+            self.height,
+            clear,
+        );
+    }
+}
+
+/// Bind `fbo` for drawing flat into the atlas: its `buffers`, no depth, blending, culling
+/// or scissor; `clear` zeroes it (texels that are no patch stay zero: alpha 0, no polygon).
+fn draw_flat(
+    ctx: &GlContext,
+    fbo: &Framebuffer,
+    buffers: &[u32],
+    width: i32,
+    height: i32,
+    clear: bool,
+) {
+    let gl = &ctx.gl;
+    fbo.bind();
+    unsafe {
+        gl.viewport(0, 0, width, height);
+        gl.draw_buffers(buffers);
+        gl.disable(glow::DEPTH_TEST);
+        gl.disable(glow::BLEND);
+        gl.disable(glow::CULL_FACE);
+        gl.disable(glow::SCISSOR_TEST);
+        if clear {
+            gl.clear_color(0.0, 0.0, 0.0, 0.0);
+            gl.clear(glow::COLOR_BUFFER_BIT);
+        }
+    }
+}
+
+pub struct ReconstructionPass {
+    programs: Programs,
+    target: Renderbuffers,
+    /// Per-patch position, normal and reflectance (the receivers' side of the form factor).
+    patches: PatchData,
+    planes: PolygonPlanes,
+    /// Which polygons can receive, and the blocks they cover.
+    receivers: Receivers,
+    /// The squares each pass draws over those blocks.
+    squares: Squares,
+    /// The polygons the last pass drew (receivers and the shooter): the only ones whose unshot
+    /// energy it can have changed.
+    pub touched: Vec<usize>,
+    /// Passes drawn with the programs unrolled for quadrilateral shooters so far.
+    pub quad_passes: u32,
+}
+
+impl ReconstructionPass {
+    pub fn new(ctx: &GlContext, scene: &Scene, layout: &PatchLayout) -> Result<Self, GlError> {
+        let gl = &ctx.gl;
+        let (width, height) = (layout.atlas_width as i32, layout.atlas_height as i32);
+        let planes = PolygonPlanes::new(ctx, scene)?;
+        let programs = Programs::new(ctx)?;
+        let receivers = Receivers::new(scene, layout);
+        let squares = Squares::new(gl, width, height)?;
+        let patches = PatchData::new(gl, width, height)?;
+        let target = Renderbuffers::new(ctx, width, height)?;
+        unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
+        ctx.check(NAME)?;
+        Ok(ReconstructionPass {
+            programs,
+            target,
+            patches,
+            planes,
+            receivers,
+            squares,
+            touched: Vec::new(),
+            quad_passes: 0,
+        })
+    }
+
+    /// Rasterise every patch's geometry into the patch textures, then write each patch's emitted
+    /// radiance (and its polygon ID in alpha) into both attachments.
+    pub fn emit(&self, ctx: &GlContext, mesh: &Mesh) -> Result<(), GlError> {
+        self.patches.rasterise(ctx, mesh)?;
+        self.target.begin(ctx, true);
+        self.programs.emission.use_program();
+        mesh.draw();
+        ctx.check(INIT_NAME)
+    }
+
+    /// The receivers to draw for `shooter` (`Receivers::select`), covered by aligned squares of
+    /// whole 4×4 blocks, split by the shader that draws them; `touched` gets the receivers and
+    /// the shooter.
+    fn select_receivers(&mut self, shooter: &Shooter, tuning: &Tuning) {
+        self.receivers.select(shooter, tuning, &mut self.touched);
+        let (clipped, above) = Receivers::shaders(tuning);
+        self.squares.build(
+            self.receivers.flags(),
+            self.receivers.blocks_wide(),
+            tuning.squares_as_points,
+            clipped,
+            above,
+        );
+    }
+
+    /// One reconstruction: for every patch drawn, its radiance and unshot radiance read from the
+    /// lightmap textures plus ΔL from `shooter`, written into the two renderbuffers; the shooting
+    /// texels' unshot radiance zero. `copy_into` then carries the result into the textures.
+    pub fn run(
+        &mut self,
+        ctx: &GlContext,
+        visibility: &VisibilityPass,
+        lightmaps: &Lightmaps,
+        shooter: &Shooter,
+        options: &SolveOptions,
+    ) -> Result<(), GlError> {
+        let tuning = options.tuning;
+        self.select_receivers(shooter, &tuning);
+        // When every texel is recomputed from the textures this pass, nothing of the last pass
+        // stays in the renderbuffers.
+        self.target.begin(ctx, tuning.writes_every_texel());
+        visibility.item_buffer.bind(0);
+        lightmaps.radiosity.bind(1);
+        lightmaps.unshot.bind(2);
+        self.planes.texture.bind(3);
+        self.patches.bind(4);
+        let gl = &ctx.gl;
+        let points = self.squares.as_points();
+        unsafe {
+            let (w, h) = self.squares.viewport;
+            gl.viewport(0, 0, w, h);
+            gl.enable(glow::SCISSOR_TEST);
+            gl.scissor(0, 0, self.target.width, self.target.height);
+            if points {
+                gl.enable(glow::PROGRAM_POINT_SIZE);
+            }
+        }
+        let mut corners = [0.0f32; 3 * MAX_CORNERS];
+        for (c, v) in corners.chunks_exact_mut(3).zip(&shooter.corners) {
+            c.copy_from_slice(&v.to_array());
+        }
+        let planes = &self.planes;
+        let uniforms = |p: &Program| {
+            p.use_program();
+            p.set_i32("PatchPosition", 4);
+            p.set_i32("PatchNormal", 5);
+            p.set_i32("PatchReflectance", 6);
+            p.set_i32("LightmapRadiosity", 1);
+            p.set_i32("LightmapUnshot", 2);
+            p.set_ivec4("ShooterTexels", shooter.texels.map(|t| t as i32));
+            p.set_i32("HemiItemBuffer", 0);
+            p.set_mat4("ShooterView", &shooter.view().to_cols_array());
+            p.set_vec3("ShootPos", shooter.position.to_array());
+            p.set_vec3("ShootNormal", shooter.normal.to_array());
+            p.set_vec3("ShootEnergy", shooter.energy.to_array());
+            p.set_f32("ShooterId", shooter.polygon as f32);
+            p.set_i32(
+                "FormFactorKind",
+                (options.form_factor == FormFactorKind::Polygon) as i32,
+            );
+            p.set_vec3_array("ShootCorners", &corners);
+            p.set_i32("ShootCornerCount", shooter.corner_count as i32);
+            p.set_f32("ShootArea", shooter.area);
+            p.set_i32(
+                "HemiCube",
+                (options.visibility == VisibilityKind::Hemicube) as i32,
+            );
+            p.set_i32("Robust", options.robust_visibility as i32);
+            p.set_i32("PolygonPlanes", 3);
+            p.set_i32("PlanesWidth", planes.texture.width);
+            p.set_i32("PlanesShift", planes.texture.width.trailing_zeros() as i32);
+            p.set_f32("PlaneSlack", planes.slack);
+        };
+        if tuning.marking_pass {
+            // Marking: depth 1 cleared, the squares' depth (½) written where a texel can
+            // receive or shoots, nothing else; the pass proper then shades those texels only.
+            unsafe {
+                gl.depth_mask(true);
+                gl.clear_depth_f64(1.0);
+                gl.clear(glow::DEPTH_BUFFER_BIT);
+                gl.enable(glow::DEPTH_TEST);
+                gl.depth_func(glow::ALWAYS);
+                gl.color_mask(false, false, false, false);
+            }
+            uniforms(&self.programs.marking);
+            self.squares.draw_all();
+            unsafe {
+                gl.depth_func(glow::EQUAL);
+                gl.depth_mask(false);
+                gl.color_mask(true, true, true, true);
+            }
+        }
+        let quad = (tuning.unroll_quads && shooter.corner_count == 4) as usize;
+        self.quad_passes += quad as u32;
+        let programs = &self.programs;
+        let (clipping, not_clipping) = if tuning.marking_pass {
+            (&programs.marked[quad], &programs.above[quad])
+        } else {
+            (&programs.literal[quad], &programs.literal[quad])
+        };
+        let [clipped, above] = self.squares.runs();
+        for (p, (first, count)) in [(clipping, clipped), (not_clipping, above)] {
+            if count > 0 {
+                uniforms(p);
+                self.squares.draw(first, count);
+            }
+        }
+        unsafe {
+            gl.disable(glow::PROGRAM_POINT_SIZE);
+            gl.disable(glow::DEPTH_TEST);
+            gl.disable(glow::SCISSOR_TEST);
+            gl.active_texture(glow::TEXTURE0);
+        }
+        ctx.check(NAME)
+    }
+
+    /// The squares the last pass drew with the clipping shader and with the one that does not
+    /// clip.
+    pub fn squares_drawn(&self) -> (usize, usize) {
+        self.squares.drawn()
+    }
+
+    /// Whether the last pass drew its squares as points (`Tuning::squares_as_points`, where the
+    /// driver's points are large enough) rather than as triangle pairs.
+    pub fn drew_points(&self) -> bool {
+        self.squares.as_points()
+    }
+
+    /// Each polygon's lightmap rectangle [x0, y0, x1, y1) in the atlas.
+    pub fn texels(&self) -> &[[u32; 4]] {
+        self.receivers.texels()
+    }
+
+    /// Make the renderbuffers hold what `lightmaps` hold, after the textures were replaced from
+    /// outside (`GpuSolver::load_atlases`): the tuned passes leave the texels they do not draw as
+    /// the renderbuffers have them.
+    pub fn load_from(&self, ctx: &GlContext, lightmaps: &Lightmaps) -> Result<(), GlError> {
+        let source = Framebuffer::new(&ctx.gl)?;
+        for (attachment, texture) in [
+            (glow::COLOR_ATTACHMENT0, &lightmaps.radiosity),
+            (glow::COLOR_ATTACHMENT1, &lightmaps.unshot),
+        ] {
+            source.attach_texture(glow::COLOR_ATTACHMENT0, texture);
+            source.blit_to(
+                &self.target.fbo,
+                attachment,
+                self.target.width,
+                self.target.height,
+            );
+        }
+        ctx.check(COPY_NAME)
+    }
+
+    /// The paper's accumulation: glCopyTexSubImage2D from the renderbuffers into the lightmaps.
+    pub fn copy_into(&self, ctx: &GlContext, lightmaps: &Lightmaps) -> Result<(), GlError> {
+        self.target
+            .fbo
+            .copy_to_texture(glow::COLOR_ATTACHMENT0, &lightmaps.radiosity);
+        self.target
+            .fbo
+            .copy_to_texture(glow::COLOR_ATTACHMENT1, &lightmaps.unshot);
+        unsafe {
+            ctx.gl.read_buffer(glow::COLOR_ATTACHMENT0);
+            ctx.gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+        }
+        ctx.check(COPY_NAME)
+    }
+}

@@ -1,0 +1,271 @@
+//! The speed switches of `solver::Tuning` leave the answer as it is: each is turned off on its
+//! own, on the Cornell box (default options: shooter cells, hemicube) and the simple room (the
+//! bench's options), and the lightmaps compared with the tuned ones, bit for bit or within 1e-6
+//! L1 where the switch says float rounding may differ. Also: the reconstruction pass draws the
+//! receivers as squares of whole 4×4 blocks over an atlas without gutters, and what it computes
+//! does not depend on where the lightmaps lie in the atlas.
+
+mod common;
+
+use common::*;
+use gpu_radiosity::patches::{PatchLayout, Resolution};
+use gpu_radiosity::solver::{GpuSolver, Tuning};
+
+#[test]
+fn squares_drawn_as_points_or_triangles_give_the_same_lightmaps() {
+    let off = |t: &mut Tuning| t.squares_as_points = false;
+    on_both_rooms(off, |name, mut points, mut triangles| {
+        assert_eq!(step_both(name, &mut points, &mut triangles, 40), 0.0);
+        assert!(
+            points.backend().reconstruction.drew_points(),
+            "llvmpipe draws wide points"
+        );
+        assert!(!triangles.backend().reconstruction.drew_points());
+    });
+}
+
+#[test]
+fn atlases_come_back_in_the_callers_layout() {
+    // The solver packs the lightmaps without gutters; what it hands out is in the layout it was
+    // given: every patch texel carries its polygon's ID + 1, every other texel is zero.
+    let scene = load("simple");
+    let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
+    let dense = layout.without_gutters();
+    assert!(dense.atlas_width * dense.atlas_height < layout.atlas_width * layout.atlas_height);
+    assert_eq!(dense.patch_count(), layout.patch_count());
+    let ctx = context();
+    let mut solver = GpuSolver::new(
+        &ctx,
+        &scene,
+        &layout,
+        gpu_radiosity::cli::bench::bench_options(0.01),
+    )
+    .unwrap();
+    solver.step().unwrap().unwrap();
+    let atlas = solver.radiosity_atlas();
+    assert_eq!(atlas.len(), layout.owner.len() * 4);
+    for (texel, &owner) in atlas.chunks_exact(4).zip(&layout.owner) {
+        assert_eq!(texel[3], owner as f32);
+    }
+}
+
+#[test]
+fn skipping_needless_clipping_changes_nothing_but_float_noise() {
+    // Blocks whose receivers all have the whole shooter above their plane are drawn with the
+    // shader variant that does not clip it: the same contour integral, so the same lightmaps up
+    // to float rounding.
+    let off = |t: &mut Tuning| t.skip_needless_clipping = false;
+    on_both_rooms(off, |name, mut split, mut clipped| {
+        let (mut cheap, mut full) = (0, 0);
+        for _ in 0..40 {
+            let a = split.step().unwrap().unwrap();
+            let b = clipped.step().unwrap().unwrap();
+            assert_eq!(a.shooter, b.shooter, "{name}");
+            let (c, u) = split.backend().reconstruction.squares_drawn();
+            full += c;
+            cheap += u;
+            assert_eq!(clipped.backend().reconstruction.squares_drawn().1, 0);
+        }
+        assert!(
+            cheap > 0 && full > 0,
+            "{name}: squares {full} clipped, {cheap} not"
+        );
+        let (a, b) = (split.radiosity_atlas(), clipped.radiosity_atlas());
+        let diff: f64 = a.iter().zip(&b).map(|(x, y)| (x - y).abs() as f64).sum();
+        let total: f64 = b.iter().map(|y| y.abs() as f64).sum();
+        eprintln!(
+            "{name}: {full} squares clipped, {cheap} not; L1 difference {:.2e}",
+            diff / total
+        );
+        assert!(
+            diff / total < 1e-6,
+            "{name}: L1 difference {}",
+            diff / total
+        );
+        // paper_notes 3.2.2, clipping only where needed: "Cornell box, 40 shots with shooter
+        // cells, L1 difference 1.3e-8; simple room, 0".
+        match name {
+            "cornell" => assert_quoted("cornell: L1 difference", diff / total, "1.3e-8"),
+            _ => assert_eq!(diff, 0.0, "{name}: L1 difference"),
+        }
+    });
+}
+
+#[test]
+fn programs_unrolled_for_quadrilaterals_give_the_same_lightmaps() {
+    // Quadrilateral shooters are drawn with programs compiled for four corners (`CORNERS`):
+    // the same sums in the same order as the loop over a corner count read at run time, so
+    // the same lightmaps, bit for bit (measured on both rooms).
+    let off = |t: &mut Tuning| t.unroll_quads = false;
+    on_both_rooms(off, |name, mut unrolled, mut looped| {
+        for _ in 0..40 {
+            let a = unrolled.step().unwrap().unwrap();
+            let b = looped.step().unwrap().unwrap();
+            assert_eq!(a.shooter, b.shooter, "{name}");
+        }
+        assert!(
+            unrolled.backend().reconstruction.quad_passes > 0,
+            "{name}: no quadrilateral shooter"
+        );
+        assert_eq!(looped.backend().reconstruction.quad_passes, 0);
+        let (a, b) = (unrolled.radiosity_atlas(), looped.radiosity_atlas());
+        assert!(a.iter().any(|&v| v > 0.0), "{name}");
+        assert!(
+            a == b,
+            "{name}: the unrolled programs computed different radiance"
+        );
+        assert_eq!(unrolled.unshot_atlas(), looped.unshot_atlas(), "{name}");
+    });
+}
+
+#[test]
+fn the_papers_passes_and_the_tuned_ones_give_the_same_lightmaps() {
+    // With every switch of `Tuning::none` off, each reconstruction pass draws every patch and
+    // tests visibility in the one shader, and each view of the visibility pass draws the whole
+    // scene, as the paper does: the same answer as the tuned passes, up to float rounding (the
+    // variant that does not clip sums the same terms in another order).
+    on_both_rooms(
+        |t| *t = Tuning::none(),
+        |name, mut tuned, mut paper| {
+            let d = step_both(name, &mut tuned, &mut paper, 20);
+            assert!(d < 1e-6, "{name}: L1 difference {d}");
+        },
+    );
+}
+
+#[test]
+fn the_guard_band_changes_nothing_but_float_noise() {
+    // Without it each hemicube face is drawn in a viewport of its own size, and the triangles
+    // crossing its edges are clipped: the same pixels, but for float rounding of the clipped
+    // and the widened vertices.
+    let off = |t: &mut Tuning| t.guard_band = 1;
+    on_both_rooms(off, |name, mut guarded, mut clipped| {
+        let d = step_both(name, &mut guarded, &mut clipped, 40);
+        assert!(d < 1e-6, "{name}: L1 difference {d}");
+    });
+}
+
+#[test]
+fn drawing_every_polygon_in_every_view_gives_the_same_lightmaps() {
+    // Culled by bounding spheres or not: what culling leaves out is clipped away whole.
+    let off = |t: &mut Tuning| t.cull_views = false;
+    on_both_rooms(off, |name, mut culled, mut whole| {
+        assert_eq!(step_both(name, &mut culled, &mut whole, 40), 0.0, "{name}");
+    });
+}
+
+#[test]
+fn drawing_the_unclipped_triangles_first_changes_nothing_but_depth_ties() {
+    let off = |t: &mut Tuning| t.split_unclipped = false;
+    on_both_rooms(off, |name, mut split, mut one| {
+        let d = step_both(name, &mut split, &mut one, 40);
+        assert!(d < 1e-6, "{name}: L1 difference {d}");
+    });
+}
+
+#[test]
+fn whole_side_faces_give_the_same_lightmaps() {
+    // The lower halves of the hemicube's side faces look below the shooter's horizon, where
+    // the reconstruction pass never looks.
+    let off = |t: &mut Tuning| t.half_side_faces = false;
+    on_both_rooms(off, |name, mut half, mut whole| {
+        assert_eq!(step_both(name, &mut half, &mut whole, 40), 0.0, "{name}");
+    });
+}
+
+#[test]
+fn plates_change_nothing_but_float_noise() {
+    let off = |t: &mut Tuning| t.plates = false;
+    on_both_rooms(off, |name, mut plates, mut polygons| {
+        let merged = |s: &GpuSolver| {
+            (0..s.ledger().patches().len())
+                .filter(|&p| s.backend().visibility.shown_as(p) != p)
+                .count()
+        };
+        if name == "simple" {
+            assert!(merged(&plates) > 150, "{name}: {} merged", merged(&plates));
+        }
+        assert_eq!(merged(&polygons), 0, "{name}");
+        let d = step_both(name, &mut plates, &mut polygons, 40);
+        assert!(d < 1e-6, "{name}: L1 difference {d}");
+    });
+}
+
+#[test]
+fn leaving_out_the_far_faces_of_solids_changes_nothing_but_float_noise() {
+    let off = |t: &mut Tuning| t.cull_solids = false;
+    on_both_rooms(off, |name, mut culled, mut whole| {
+        let d = step_both(name, &mut culled, &mut whole, 40);
+        assert!(d < 1e-6, "{name}: L1 difference {d}");
+    });
+}
+
+#[test]
+fn flushing_after_the_visibility_pass_changes_nothing() {
+    let off = |t: &mut Tuning| t.flush_visibility = false;
+    on_both_rooms(off, |name, mut flushed, mut queued| {
+        assert_eq!(
+            step_both(name, &mut flushed, &mut queued, 40),
+            0.0,
+            "{name}"
+        );
+    });
+}
+
+#[test]
+fn float_depth_or_24_bit_depth_give_the_same_lightmaps() {
+    let off = |t: &mut Tuning| t.float_depth = false;
+    on_both_rooms(off, |name, mut float, mut fixed| {
+        let d = step_both(name, &mut float, &mut fixed, 40);
+        assert!(d < 1e-6, "{name}: L1 difference {d}");
+    });
+}
+
+/// Step both solvers `shots` times (they must pick the same shooters) and return the larger
+/// relative L1 difference of their radiance and unshot atlases: 0 when bit for bit the same.
+fn step_both(name: &str, a: &mut GpuSolver<'_>, b: &mut GpuSolver<'_>, shots: u32) -> f64 {
+    for _ in 0..shots {
+        let x = a.step().unwrap().unwrap();
+        let y = b.step().unwrap().unwrap();
+        assert_eq!(x.shooter, y.shooter, "{name}");
+    }
+    let mut worst: f64 = 0.0;
+    for (x, y) in [
+        (a.radiosity_atlas(), b.radiosity_atlas()),
+        (a.unshot_atlas(), b.unshot_atlas()),
+    ] {
+        let diff: f64 = x.iter().zip(&y).map(|(p, q)| (p - q).abs() as f64).sum();
+        let total: f64 = y.iter().map(|q| q.abs() as f64).sum();
+        assert!(total > 0.0, "{name}");
+        if x != y {
+            worst = worst.max(diff / total).max(f64::MIN_POSITIVE);
+        }
+    }
+    eprintln!("{name}: relative L1 difference {worst:.2e}");
+    worst
+}
+
+/// Run `check` on two solvers made alike but for `tweak` applied to the second one's tuning,
+/// for the Cornell box with its default options (shooter cells) and for the simple room with the
+/// bench's.
+fn on_both_rooms(
+    tweak: impl Fn(&mut Tuning),
+    mut check: impl FnMut(&str, GpuSolver<'_>, GpuSolver<'_>),
+) {
+    for (name, options) in [
+        ("cornell", gpu_radiosity::solver::SolveOptions::default()),
+        ("simple", gpu_radiosity::cli::bench::bench_options(0.01)),
+    ] {
+        let scene = load(name);
+        let resolution = scene
+            .patch_size
+            .map_or(Resolution::Patches(4096), Resolution::PatchSize);
+        let layout = PatchLayout::new(&scene, resolution);
+        let ctx = context();
+        let mut tweaked = options.clone();
+        tweak(&mut tweaked.tuning);
+        let a = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
+        let b = GpuSolver::new(&ctx, &scene, &layout, tweaked).unwrap();
+        check(name, a, b);
+    }
+}
