@@ -3,7 +3,7 @@
 use crate::display::{self, output};
 use crate::gl::{BackendChoice, GlContext, GlInfo};
 use crate::patches::{PatchLayout, Resolution};
-use crate::scene::{load_obj, Camera};
+use crate::scene::{bundled, Camera};
 use crate::solver::cpu::CpuSolver;
 use crate::solver::{FormFactorKind, GpuSolver, ShotRecord, SolveOptions, VisibilityKind};
 use anyhow::{bail, Context, Result};
@@ -11,14 +11,12 @@ use glam::Vec3;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
-/// The bundled default scene.
-pub const DEFAULT_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cornell/cornell.obj");
 /// Patches when neither --patches nor --patch-size nor the scene says otherwise.
 pub const DEFAULT_PATCHES: u32 = 4096;
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct SolveArgs {
-    /// OBJ scene (with its MTL); default: the bundled Cornell box.
+    /// OBJ scene (with its MTL); default: the Cornell box built into the binary.
     pub scene: Option<PathBuf>,
     /// Output directory; default: out/<scene name>/.
     #[arg(long)]
@@ -280,11 +278,7 @@ pub struct SolveOutcome {
 
 pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     check_solve_settings(args.threshold, args.patch_size, args.patches)?;
-    let scene_path = args
-        .scene
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(DEFAULT_SCENE));
-    let scene = load_obj(&scene_path)?;
+    let (scene, scene_path) = bundled::load_or_default(args.scene.as_deref())?;
     let out_dir = args
         .out
         .clone()

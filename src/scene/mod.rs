@@ -1,6 +1,7 @@
 //! The scene: planar polygons (the paper's faces, each of which gets its own lightmap), their
 //! Lambertian materials (`Kd` reflectance, `Ke` emitted radiance) and an optional camera.
 
+pub mod bundled;
 mod obj;
 pub mod plates;
 pub mod solids;

@@ -15,7 +15,7 @@ use crate::display::Viewport;
 use crate::gl::window::GlWindow;
 use crate::gl::GlContext;
 use crate::patches::{PatchLayout, Resolution};
-use crate::scene::{load_obj, Scene};
+use crate::scene::{bundled, Scene};
 use anyhow::{anyhow, Context as _, Result};
 use std::path::Path;
 use std::rc::Rc;
@@ -83,7 +83,7 @@ struct Viewer {
 }
 
 pub fn run(options: ViewOptions) -> Result<()> {
-    let scene = load_obj(&options.scene)?;
+    let (scene, _) = bundled::load_or_default(options.scene.as_deref())?;
     let event_loop = EventLoop::new().map_err(|e| {
         anyhow!(
             "cannot open a window: no display ({e}). Run it on a desktop, or headless under \
