@@ -19,6 +19,7 @@ pub struct Mat {
     pub ke: [f64; 3],
 }
 
+/// A room under construction: its pieces and materials, in the order the files list them.
 #[derive(Default)]
 pub struct Builder {
     pub pieces: Vec<Piece>,

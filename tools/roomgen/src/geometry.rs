@@ -3,8 +3,9 @@
 
 /// Integer coordinates in tenths of a millimetre.
 pub type Q3 = [i64; 3];
-pub const PER_METRE: f64 = 10_000.0;
+const PER_METRE: f64 = 10_000.0;
 
+/// Metres to integer coordinates.
 pub fn q(x: f64) -> i64 {
     (x * PER_METRE).round() as i64
 }
@@ -74,7 +75,7 @@ pub enum Facing {
 impl Facing {
     /// World (axis, sign) of the local u (right, seen from the front) and w (front) axes; local
     /// v is world +y. (u, v, w) is right-handed, so orientations survive the mapping.
-    pub fn axes(self) -> ((usize, f64), (usize, f64)) {
+    fn axes(self) -> ((usize, f64), (usize, f64)) {
         match self {
             Facing::PosZ => ((0, 1.0), (2, 1.0)),
             Facing::NegZ => ((0, -1.0), (2, -1.0)),

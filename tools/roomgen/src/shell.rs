@@ -10,6 +10,7 @@ const DADO: f64 = 0.9;
 const SKIRT_H: f64 = 0.08;
 const SKIRT_D: f64 = 0.015;
 
+/// A wall of a room, by compass: north is +z, east is +x.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Side {
     North,
@@ -44,12 +45,13 @@ impl RoomRect {
 /// An opening in one side of a room, from `lo` to `hi` along the wall, `height` high.
 #[derive(Clone, Copy)]
 pub struct Opening {
-    pub side: Side,
-    pub lo: f64,
-    pub hi: f64,
-    pub height: f64,
+    side: Side,
+    lo: f64,
+    hi: f64,
+    height: f64,
 }
 
+/// A floor's covering: staggered planks of random oak shades, or a chequer of two tiles.
 pub enum Floor {
     Planks {
         width: f64,
@@ -62,6 +64,7 @@ pub enum Floor {
     },
 }
 
+/// How a room's shell looks: wall and dado materials, floor, ceiling tiles and light panels.
 pub struct Finish {
     pub wall: usize,
     pub dado: usize,
@@ -96,6 +99,8 @@ fn grid(lo: f64, hi: f64, t: f64) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// A room's floor, ceiling (with its light panels), walls (with holes for `openings`) and
+/// skirting boards; the room's box joins the interior.
 pub fn shell(
     b: &mut Builder,
     rng: &mut SplitMix,

@@ -101,6 +101,7 @@ impl Bookcase {
     }
 }
 
+/// A cabinet's front: n doors side by side, or n drawers one above the other.
 #[derive(Clone, Copy)]
 pub enum Fronts {
     Doors(usize),

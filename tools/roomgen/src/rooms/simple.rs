@@ -37,7 +37,7 @@ pub fn simple(b: &mut Builder, rng: &mut SplitMix) -> Plan {
 
     // North wall: two bookcases, a low cabinet with a lamp, a door; a plant in the corner.
     let mut shelves = Vec::new();
-    // (Their boards share corners: fewer vertices, see the module's notes.)
+    // (Their boards share corners: fewer vertices, see the crate's notes in lib.rs.)
     b.shared = true;
     for x in [1.0, 2.06] {
         let fr = room.wall(Side::North, x, 0.01);
