@@ -9,7 +9,7 @@ fn main() -> anyhow::Result<()> {
     let out = std::env::args()
         .nth(1)
         .unwrap_or_else(|| "cornell.png".into());
-    let scene = pipeline::load_scene(None)?; // the built-in Cornell box
+    let (scene, _) = pipeline::load_scene(None)?; // the built-in Cornell box
     let layout = pipeline::lay_out(&scene, None, None)?; // about 4,096 patches
     let ctx = GlContext::headless(BackendChoice::Auto)?; // EGL or OSMesa, no display needed
     let solution = pipeline::solve(

@@ -1,5 +1,7 @@
 //! Golden images: small reference renders of the bundled scenes in both modes, for regression
-//! testing a Mesa build (`radiosity check --against tests/golden`, `tests/golden.rs`).
+//! testing a Mesa build (`radiosity check`, `tests/golden.rs`). The references of tests/golden/
+//! and the scenes are built into the binary, so an installed `radiosity check` needs no source
+//! tree; `--against DIR` compares with other references.
 //!
 //! Metric: the relative RMS difference (RMS of the pixel differences over the mean radiance of
 //! the reference) and the fraction of pixels that differ by more than 5 % of the reference's
@@ -10,9 +12,10 @@ use crate::display::{self, Image};
 use crate::gl::GlContext;
 use crate::patches::{PatchLayout, Resolution};
 use crate::pipeline::{self, SolverKind};
+use crate::scene::bundled;
 use crate::solver::SolveOptions;
-use anyhow::{Context, Result};
-use std::path::{Path, PathBuf};
+use anyhow::{bail, Context, Result};
+use std::path::Path;
 
 /// Relative RMS difference allowed.
 pub const RMS_TOLERANCE: f64 = 0.01;
@@ -67,16 +70,44 @@ pub const CASES: &[Case] = &[
 pub const SIZE: (u32, u32) = (96, 96);
 const PATCHES: u32 = 1024;
 
-fn scene_path(scene: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(scene)
-        .join(format!("{scene}.obj"))
+/// Where the reference images are.
+pub enum References<'a> {
+    /// The copies of tests/golden/ built into the binary.
+    BuiltIn,
+    /// `<case>.exr` files in a directory.
+    Dir(&'a Path),
 }
+
+macro_rules! golden {
+    ($case:literal) => {
+        (
+            $case,
+            include_bytes!(concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/tests/golden/",
+                $case,
+                ".exr"
+            ))
+            .as_slice(),
+        )
+    };
+}
+
+/// tests/golden/ at build time, one per case.
+const BUILT_IN: [(&str, &[u8]); 6] = [
+    golden!("cornell-paper"),
+    golden!("cornell-accurate"),
+    golden!("box-paper"),
+    golden!("box-accurate"),
+    golden!("shadow-paper"),
+    golden!("shadow-accurate"),
+];
 
 /// Solve and render a case (1,024 patches, threshold 0.01, 96x96, the scene's camera).
 pub fn render(ctx: &GlContext, case: &Case) -> Result<Image> {
-    let scene = pipeline::load_scene(Some(&scene_path(case.scene)))?;
+    let scene = bundled::find(case.scene)
+        .with_context(|| format!("no built-in scene '{}'", case.scene))?
+        .load()?;
     let layout = PatchLayout::try_new(&scene, Resolution::Patches(PATCHES))?;
     let solution = pipeline::solve(
         ctx,
@@ -125,28 +156,50 @@ pub fn compare(name: &str, got: &[f32], reference: &[f32]) -> Comparison {
     }
 }
 
-fn read_exr(path: &Path) -> Result<Vec<f32>> {
-    let img = image::open(path)
-        .with_context(|| format!("cannot read the golden image {}", path.display()))?;
-    Ok(img.to_rgb32f().into_raw())
+impl References<'_> {
+    fn read(&self, case: &str) -> Result<Vec<f32>> {
+        let img = match self {
+            References::Dir(dir) => {
+                let path = dir.join(format!("{case}.exr"));
+                image::open(&path)
+                    .with_context(|| format!("cannot read the golden image {}", path.display()))?
+            }
+            References::BuiltIn => {
+                let (_, bytes) = BUILT_IN
+                    .iter()
+                    .find(|(name, _)| *name == case)
+                    .with_context(|| format!("no built-in golden image for {case}"))?;
+                image::load_from_memory_with_format(bytes, image::ImageFormat::OpenExr)
+                    .with_context(|| format!("cannot read the built-in golden image {case}.exr"))?
+            }
+        };
+        Ok(img.to_rgb32f().into_raw())
+    }
 }
 
-/// Render every case and compare it with `dir/<case>.exr`; on a failure write
+/// Render every case and compare it with its reference; on a failure write
 /// `<diff_dir>/<case>-diff.png` (|difference| × 10, tone mapped). With `update`, write the
-/// renders as the new references instead.
+/// renders as the new references instead (into a directory: the built-in ones are fixed).
 pub fn check(
     ctx: &GlContext,
-    dir: &Path,
+    references: &References,
     diff_dir: &Path,
     update: bool,
 ) -> Result<Vec<Comparison>> {
+    let update_dir = match (update, references) {
+        (false, _) => None,
+        (true, References::Dir(dir)) => Some(*dir),
+        (true, References::BuiltIn) => {
+            bail!("the built-in golden images cannot be updated: name a directory of references")
+        }
+    };
     let mut results = Vec::new();
     for case in CASES {
         let name = case.name();
         let image = render(ctx, case)?;
-        let path = dir.join(format!("{name}.exr"));
-        if update {
+        if let Some(dir) = update_dir {
             std::fs::create_dir_all(dir)?;
+            let path = dir.join(format!("{name}.exr"));
             display::output::write_exr(&path, image.width, image.height, &image.rgb)?;
             results.push(Comparison {
                 case: name,
@@ -156,7 +209,7 @@ pub fn check(
             });
             continue;
         }
-        let reference = read_exr(&path)?;
+        let reference = references.read(&name)?;
         let c = compare(&name, &image.rgb, &reference);
         if !c.pass {
             std::fs::create_dir_all(diff_dir)?;
@@ -177,4 +230,17 @@ pub fn check(
         results.push(c);
     }
     Ok(results)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_case_has_a_built_in_reference_of_its_size() {
+        for case in CASES {
+            let rgb = References::BuiltIn.read(&case.name()).unwrap();
+            assert_eq!(rgb.len(), (SIZE.0 * SIZE.1 * 3) as usize, "{}", case.name());
+        }
+    }
 }

@@ -6,7 +6,7 @@
 //! use gpu_radiosity::pipeline::{self, Mode, SolverKind};
 //!
 //! # fn main() -> anyhow::Result<()> {
-//! let scene = pipeline::load_scene(None)?;                  // the bundled Cornell box
+//! let (scene, _) = pipeline::load_scene(None)?;             // the built-in Cornell box
 //! let layout = pipeline::lay_out(&scene, None, None)?;      // ~4,096 patches
 //! let ctx = GlContext::headless(BackendChoice::Auto)?;      // EGL or OSMesa, no display
 //! let options = Mode::Accurate.options();
@@ -23,12 +23,12 @@
 use crate::display::{self, output, Image};
 use crate::gl::{GlContext, GlError, GlInfo};
 use crate::patches::{LayoutError, PatchLayout, Resolution};
-use crate::scene::{load_obj, Camera, Scene, SceneError};
+use crate::scene::{bundled, Camera, Scene, SceneError};
 use crate::solver::{
     Backend, CpuSolver, GpuSolver, PassTimes, ShotRecord, SolveError, SolveOptions, Solver,
 };
 use glam::Vec3;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Patches when neither the caller nor the scene says otherwise.
 pub const DEFAULT_PATCHES: u32 = 4096;
@@ -112,13 +112,11 @@ pub fn check_settings(
     Ok(())
 }
 
-/// Load an OBJ scene (with its MTL), or the bundled Cornell box for `None`.
-pub fn load_scene(path: Option<&Path>) -> Result<Scene, SceneError> {
-    load_obj(path.unwrap_or(DEFAULT_SCENE.as_ref()))
+/// Load an OBJ scene (with its MTL), or the Cornell box built into the library for `None`;
+/// also the path that names it (`<built-in>/cornell/cornell.obj` for the built-in one).
+pub fn load_scene(path: Option<&Path>) -> Result<(Scene, PathBuf), SceneError> {
+    bundled::load_or_default(path)
 }
-
-/// The bundled default scene.
-pub const DEFAULT_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cornell/cornell.obj");
 
 /// The patch resolution: a patch size, else a patch count, else the scene's `# patch-size`,
 /// else [`DEFAULT_PATCHES`].

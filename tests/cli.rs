@@ -92,6 +92,45 @@ fn solve_without_arguments_writes_the_cornell_box() {
     );
 }
 
+/// An installed binary is whole: a copy of it, run from a directory that is not the source
+/// tree and without a scene, solves the Cornell box built into it (not scenes/cornell/ found
+/// through the build's source path) and writes the four files under the working directory;
+/// its golden check needs no tests/golden/ either.
+#[test]
+fn a_copied_binary_solves_and_checks_from_any_directory() {
+    let root = tempfile::tempdir().unwrap();
+    let bin = root.path().join("bin/radiosity");
+    std::fs::create_dir_all(bin.parent().unwrap()).unwrap();
+    std::fs::copy(env!("CARGO_BIN_EXE_radiosity"), &bin).unwrap();
+    let cwd = root.path().join("elsewhere");
+    std::fs::create_dir_all(&cwd).unwrap();
+    let out = Command::new(&bin)
+        .args(["solve", "--size", "64x64"])
+        .current_dir(&cwd)
+        .output()
+        .expect("the copied binary runs");
+    assert!(out.status.success(), "{}", stderr(&out));
+    let out_dir = cwd.join("out/cornell");
+    for f in ["image.png", "image.exr", "lightmap.exr", "stats.json"] {
+        assert!(out_dir.join(f).is_file(), "{f} missing");
+    }
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("stats.json")).unwrap())
+            .unwrap();
+    assert_eq!(stats["scene"], "<built-in>/cornell/cornell.obj");
+    assert_eq!(stats["faces"], 19);
+
+    // `check` without `--against` compares with the golden references built into it.
+    let out = Command::new(&bin)
+        .arg("check")
+        .current_dir(&cwd)
+        .output()
+        .expect("the copied binary runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}{}", stderr(&out));
+    assert_eq!(stdout.matches(" pass").count(), 6, "{stdout}");
+}
+
 #[test]
 fn both_backends_give_the_same_image() {
     let dir = tempfile::tempdir().unwrap();

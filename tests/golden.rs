@@ -12,7 +12,8 @@ fn renders_match_the_golden_images() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
     let diff = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/golden-diff");
     let update = std::env::var("UPDATE_GOLDEN").is_ok_and(|v| v == "1");
-    let results = gpu_radiosity::golden::check(&ctx, &dir, &diff, update).unwrap();
+    let references = gpu_radiosity::golden::References::Dir(&dir);
+    let results = gpu_radiosity::golden::check(&ctx, &references, &diff, update).unwrap();
     for r in &results {
         println!(
             "{:<20} RMS {:.4} %  outliers {:.3} %  {}",

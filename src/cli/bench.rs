@@ -16,7 +16,7 @@
 
 use crate::gl::{BackendChoice, GlContext};
 use crate::patches::{PatchLayout, Resolution};
-use crate::scene::load_obj;
+use crate::scene::bundled;
 use crate::solver::cpu::CpuSolver;
 use crate::solver::{GpuSolver, SolveOptions};
 use anyhow::{Context, Result};
@@ -209,12 +209,9 @@ fn shader_cache_filled(dir: Option<&Path>) -> bool {
 }
 
 fn room(name: &str) -> Result<(crate::scene::Scene, PatchLayout)> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(name)
-        .join(format!("{name}.obj"));
-    let scene =
-        load_obj(&path).with_context(|| format!("room '{name}' (try `radiosity scene {name}`)"))?;
+    let scene = bundled::find(name)
+        .with_context(|| format!("no built-in room '{name}': the rooms are simple and complex"))?
+        .load()?;
     let size = scene
         .patch_size
         .context("the room has no `# patch-size` line")?;

@@ -1,16 +1,18 @@
-//! `radiosity check --against tests/golden`: render the golden cases on this machine's driver
-//! and compare them with the references (for regression-testing a Mesa build).
+//! `radiosity check [--against DIR]`: render the golden cases on this machine's driver and
+//! compare them with the references (for regression-testing a Mesa build): by default the
+//! references built into the binary (tests/golden/ when it was built).
 
 use crate::gl::{BackendChoice, GlContext};
-use crate::golden;
+use crate::golden::{self, References};
 use anyhow::{bail, Result};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct CheckArgs {
-    /// Directory of reference images (`<scene>-<mode>.exr`).
-    #[arg(long, default_value = "tests/golden")]
-    pub against: PathBuf,
+    /// Directory of reference images (`<scene>-<mode>.exr`); default: the references built
+    /// into the binary (tests/golden/ when it was built).
+    #[arg(long)]
+    pub against: Option<PathBuf>,
     #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
     pub backend: BackendChoice,
     /// Where difference images of failed cases go.
@@ -24,7 +26,11 @@ pub fn run_check(args: &CheckArgs) -> Result<()> {
         "{} | {} | {}",
         ctx.info.vendor, ctx.info.renderer, ctx.info.version
     );
-    let results = golden::check(&ctx, &args.against, &args.diff_dir, false)?;
+    let references = match &args.against {
+        Some(dir) => References::Dir(dir),
+        None => References::BuiltIn,
+    };
+    let results = golden::check(&ctx, &references, &args.diff_dir, false)?;
     println!(
         "{:<20} {:>10} {:>12}  result",
         "case", "RMS %", "outliers %"

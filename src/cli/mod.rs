@@ -3,7 +3,6 @@
 pub mod bench;
 mod check;
 mod info;
-mod scene;
 mod solve;
 mod validate;
 mod view;
@@ -27,8 +26,6 @@ pub struct Cli {
 pub enum Command {
     /// Solve a scene and write image.png, image.exr, lightmap.exr and stats.json.
     Solve(SolveArgs),
-    /// Generate one of the paper's two rooms (Table 1) as an OBJ + MTL pair and print its counts.
-    Scene(scene::SceneArgs),
     /// Benchmarks: `table1` replicates the paper's Table 1 (CPU vs GPU on the two rooms).
     Bench(bench::BenchArgs),
     /// Compare renders of the bundled scenes with golden images (regression-test a Mesa build).
@@ -44,7 +41,6 @@ pub enum Command {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Solve(args) => run_solve(&args).map(|_| ()),
-        Command::Scene(args) => scene::run_scene(&args),
         Command::Validate(args) => validate::run_validate(&args),
         Command::Info(args) => info::run_info(&args),
         Command::Check(args) => check::run_check(&args),

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct SolveArgs {
-    /// OBJ scene (with its MTL); default: the bundled Cornell box.
+    /// OBJ scene (with its MTL); default: the Cornell box built into the binary.
     pub scene: Option<PathBuf>,
     /// Output directory; default: out/SCENE_NAME/.
     #[arg(long)]
@@ -182,13 +182,8 @@ pub struct SolveOutcome {
 
 pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     check_solve_settings(args.threshold, args.patch_size, args.patches)?;
-    let scene = pipeline::load_scene(args.scene.as_deref())?;
-    let scene_name = args
-        .scene
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(pipeline::DEFAULT_SCENE))
-        .display()
-        .to_string();
+    let (scene, scene_path) = pipeline::load_scene(args.scene.as_deref())?;
+    let scene_name = scene_path.display().to_string();
     let out_dir = args
         .out
         .clone()

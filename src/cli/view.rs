@@ -1,14 +1,14 @@
 //! `radiosity view [SCENE.obj]`: the interactive viewer (see src/viewer/).
 
 use super::solve::{parse_size, Mode};
-use crate::pipeline::{DEFAULT_PATCHES, DEFAULT_SCENE};
+use crate::pipeline::DEFAULT_PATCHES;
 use crate::viewer::{self, Overlay, ViewMode, ViewOptions};
 use anyhow::{bail, Result};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct ViewArgs {
-    /// OBJ scene (with its MTL); default: the bundled Cornell box.
+    /// OBJ scene (with its MTL); default: the Cornell box built into the binary.
     pub scene: Option<PathBuf>,
     /// `paper` or `accurate`, as for `solve` (switch in the window with M).
     #[arg(long, value_enum, default_value_t = Mode::Accurate)]
@@ -51,10 +51,7 @@ pub fn run_view(args: &ViewArgs) -> Result<()> {
         bail!("--exposure must be a positive number");
     }
     viewer::run(ViewOptions {
-        scene: args
-            .scene
-            .clone()
-            .unwrap_or_else(|| PathBuf::from(DEFAULT_SCENE)),
+        scene: args.scene.clone(),
         mode: match args.mode {
             Mode::Paper => ViewMode::Paper,
             Mode::Accurate => ViewMode::Accurate,

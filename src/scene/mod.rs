@@ -1,7 +1,7 @@
 //! The scene: planar polygons (the paper's faces, each of which gets its own lightmap), their
 //! Lambertian materials (`Kd` reflectance, `Ke` emitted radiance) and an optional camera.
 
-pub mod generate;
+pub mod bundled;
 mod obj;
 mod triangulate;
 

@@ -39,15 +39,26 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         path: path.to_path_buf(),
         source,
     })?;
-    let header = parse_comments(path, &text)?;
-    check_lines(path, &text)?;
+    parse_obj(path, &text, |file| std::fs::read(file))
+}
+
+/// The scene in an OBJ text. `path` names it in messages and locates the MTL files it names,
+/// which `read` fetches (from disk, or from the copies built into the binary): files and
+/// built-in scenes go through the same checks.
+pub(super) fn parse_obj(
+    path: &Path,
+    text: &str,
+    read: impl Fn(&Path) -> std::io::Result<Vec<u8>>,
+) -> Result<Scene, SceneError> {
+    let header = parse_comments(path, text)?;
+    check_lines(path, text)?;
     let mut warnings = Vec::new();
     for lib in text
         .lines()
         .filter_map(|l| l.trim().strip_prefix("mtllib "))
     {
         let mtl = path.parent().unwrap_or(Path::new(".")).join(lib.trim());
-        match std::fs::read(&mtl) {
+        match read(&mtl) {
             // A missing MTL is a warning: the geometry still loads (and with no emitter the
             // scene then stops with its own clear error). A malformed one is an error: a typo in
             // Kd or Ke would otherwise silently change the light. Bytes that are not UTF-8 must
@@ -65,9 +76,21 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         single_index: false,
         ..Default::default()
     };
-    let (models, materials) = tobj::load_obj(path, &options).map_err(|e| SceneError::Parse {
+    // What tobj::load_obj does with a file, on the text already read: MTL files next to the OBJ.
+    let load_mtl = |name: &Path| {
+        let file = match path.parent() {
+            Some(dir) => dir.join(name),
+            None => name.to_path_buf(),
+        };
+        match read(&file) {
+            Ok(bytes) => tobj::load_mtl_buf(&mut bytes.as_slice()),
+            Err(_) => Err(tobj::LoadError::OpenFileFailed),
+        }
+    };
+    let loaded = tobj::load_obj_buf(&mut text.as_bytes(), &options, load_mtl);
+    let (models, materials) = loaded.map_err(|e| SceneError::Parse {
         path: path.to_path_buf(),
-        line: first_bad_line(&text, &e)
+        line: first_bad_line(text, &e)
             .map(|n| format!(":{n}"))
             .unwrap_or_default(),
         what: format!("malformed OBJ ({e})"),

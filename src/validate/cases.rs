@@ -346,8 +346,7 @@ pub fn direct_solve(ctx: &GlContext) -> Result<Check> {
 
 /// The Cornell box's mean radiance per wall at about 4096 patches and at half the patch size.
 pub fn refinement(ctx: &GlContext) -> Result<Vec<Check>> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell/cornell.obj");
-    let scene = crate::scene::load_obj(&path)?;
+    let scene = crate::scene::bundled::cornell().load()?;
     let walls = ["floor", "ceiling", "back_wall", "red_wall", "green_wall"];
     let coarse = PatchLayout::new(&scene, Resolution::Patches(4096)).patch_size;
     let mut means = Vec::new();

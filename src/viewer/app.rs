@@ -83,7 +83,7 @@ struct Viewer {
 }
 
 pub fn run(options: ViewOptions) -> Result<()> {
-    let scene = crate::pipeline::load_scene(Some(&options.scene))?;
+    let (scene, _) = crate::pipeline::load_scene(options.scene.as_deref())?;
     let event_loop = EventLoop::new().map_err(|e| {
         anyhow!(
             "cannot open a window: no display ({e}). Run it on a desktop, or headless under \

@@ -45,7 +45,8 @@ impl ViewMode {
 /// Everything `radiosity view` is asked for, validated.
 #[derive(Clone, Debug)]
 pub struct ViewOptions {
-    pub scene: PathBuf,
+    /// The OBJ file; `None`: the Cornell box built into the binary.
+    pub scene: Option<PathBuf>,
     pub mode: ViewMode,
     /// Stop when unshot power / emitted power ≤ this. Range (0, 1); typical 0.01.
     pub threshold: f32,

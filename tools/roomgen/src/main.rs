@@ -1,27 +1,32 @@
-//! `radiosity scene simple|complex [--out FILE.obj]`: write one of the paper's two rooms
-//! (`scene::generate`) as FILE.obj and FILE.mtl, then load it back and print its counts.
+//! `roomgen simple|complex [--out FILE.obj]`: write one of the paper's two rooms as FILE.obj
+//! and FILE.mtl, then load it back as the solver would and print its counts.
 
-use crate::display::output::write_atomic;
-use crate::patches::{PatchLayout, Resolution};
-use crate::scene::generate::{generate, Room};
-use crate::scene::load_obj;
 use anyhow::{bail, Context, Result};
+use clap::Parser;
+use gpu_radiosity::display::output::write_atomic;
+use gpu_radiosity::patches::{PatchLayout, Resolution};
+use gpu_radiosity::scene::load_obj;
+use roomgen::{generate, Room};
 use std::path::{Path, PathBuf};
 
-#[derive(clap::Args, Debug, Clone)]
-pub struct SceneArgs {
+#[derive(Parser, Debug)]
+#[command(
+    name = "roomgen",
+    about = "Generate one of the paper's two rooms (Table 1) as an OBJ + MTL pair and print its counts"
+)]
+struct Args {
     /// Which room: simple (1,602 faces, 14,445 patches) or complex (8,549 faces, 86,077
     /// patches), as in the paper's Table 1.
     #[arg(value_enum)]
-    pub room: RoomArg,
+    room: RoomArg,
     /// Output OBJ file; the MTL file goes next to it with the same stem. Default:
     /// scenes/ROOM/ROOM.obj.
     #[arg(long)]
-    pub out: Option<PathBuf>,
+    out: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum RoomArg {
+enum RoomArg {
     Simple,
     Complex,
 }
@@ -35,7 +40,14 @@ impl From<RoomArg> for Room {
     }
 }
 
-pub fn run_scene(args: &SceneArgs) -> Result<()> {
+fn main() {
+    if let Err(e) = run(&Args::parse()) {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run(args: &Args) -> Result<()> {
     let room = Room::from(args.room);
     let obj_path = args.out.clone().unwrap_or_else(|| {
         Path::new("scenes")

@@ -1,12 +1,12 @@
-//! The paper's two virtual rooms (`radiosity scene simple|complex`, `src/scene/generate.rs`):
+//! The paper's two virtual rooms (`roomgen simple|complex`, tools/roomgen/):
 //! the committed files are exactly what the generator writes, they have exactly Table 1's
 //! counts, and they are well-formed rooms (planar convex polygons; walls, floors and ceilings
 //! facing the inside; lights facing down; furniture facing outward; nothing outside the rooms).
 
 use glam::Vec3;
 use gpu_radiosity::patches::{PatchLayout, Resolution};
-use gpu_radiosity::scene::generate::{generate, GeneratedScene, Room};
 use gpu_radiosity::scene::{load_obj, Polygon, Scene};
+use roomgen::{generate, GeneratedScene, Room};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -14,8 +14,9 @@ const ROOMS: [Room; 2] = [Room::Simple, Room::Complex];
 
 fn path(room: Room, ext: &str) -> PathBuf {
     let name = room.name();
+    // The rooms are committed with the solver's other scenes, two levels up.
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
+        .join("../../scenes")
         .join(name)
         .join(format!("{name}.{ext}"))
 }
@@ -61,7 +62,7 @@ fn the_generator_reproduces_the_committed_files() {
                     .unwrap_or(committed.lines().count().min(text.lines().count()) + 1);
                 panic!(
                     "{} differs from the generator's output from line {line} on; \
-                     regenerate it with `cargo run --release -- scene {}`",
+                     regenerate it with `cargo run --release -p roomgen -- {}`",
                     file.display(),
                     room.name()
                 );
