@@ -1,7 +1,7 @@
 //! The GPU backend: the paper's passes on OpenGL 3.0. The visibility pass draws the item buffer
-//! from the shooter (`visibility.rs`); the reconstruction pass draws every receiver's lightmap
+//! from the shooter (`visibility/`); the reconstruction pass draws every receiver's lightmap
 //! into renderbuffers, adding ΔL to the values it reads from the lightmap textures
-//! (`reconstruction.rs`); `glCopyTexSubImage2D` copies the sums back into the textures, and the
+//! (`reconstruction/`); `glCopyTexSubImage2D` copies the sums back into the textures, and the
 //! unshot texture is read back for Find_Max_Energy after each shot.
 
 use super::progressive::{Backend, Solver};

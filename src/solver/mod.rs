@@ -4,8 +4,8 @@
 //! [`Backend`] that does the passes: `gpu.rs` on OpenGL as the paper does, `cpu/` in Rust with
 //! exact visibility. `ledger.rs` keeps the books both share (unshot totals, areas, stopping rule,
 //! history, pass timers). Each step has its own file: `find_max_energy.rs` (choose the shooter),
-//! `shooters.rs` (the shooter's cells), `visibility.rs` (item buffer from the shooter),
-//! `reconstruction.rs` (form factors and received energy per patch, accumulation),
+//! `shooters.rs` (the shooter's cells), `visibility/` (item buffer from the shooter, and what it
+//! may leave out), `reconstruction/` (form factors and received energy per patch, accumulation),
 //! `form_factor.rs` (the CPU twins of the shader's factors). `mesh.rs` builds the vertex data
 //! the passes draw; `tuning.rs` holds every speed trick for llvmpipe, apart from the paper.
 
