@@ -2,7 +2,7 @@
 
 use super::solve::{parse_size, Mode};
 use crate::pipeline::DEFAULT_PATCHES;
-use crate::viewer::{self, Overlay, ViewMode, ViewOptions};
+use crate::viewer::{self, Overlay, ViewOptions};
 use anyhow::{bail, Result};
 use std::path::PathBuf;
 
@@ -52,10 +52,7 @@ pub fn run_view(args: &ViewArgs) -> Result<()> {
     }
     viewer::run(ViewOptions {
         scene: args.scene.clone(),
-        mode: match args.mode {
-            Mode::Paper => ViewMode::Paper,
-            Mode::Accurate => ViewMode::Accurate,
-        },
+        mode: args.mode,
         threshold: args.threshold,
         patch_size: args.patch_size,
         patches: args.patches.unwrap_or(DEFAULT_PATCHES),

@@ -15,32 +15,10 @@ mod session;
 
 pub use overlays::Overlay;
 
-use crate::solver::SolveOptions;
 use std::path::PathBuf;
 
-/// The solver's two modes, as `--mode` names them.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ViewMode {
-    Paper,
-    Accurate,
-}
-
-impl ViewMode {
-    pub fn options(self, threshold: f32) -> SolveOptions {
-        let base = match self {
-            ViewMode::Paper => SolveOptions::paper(),
-            ViewMode::Accurate => SolveOptions::accurate(),
-        };
-        SolveOptions { threshold, ..base }
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            ViewMode::Paper => "paper",
-            ViewMode::Accurate => "accurate",
-        }
-    }
-}
+/// The solver settings the viewer runs: the same two modes as `radiosity solve`.
+pub use crate::pipeline::Mode as ViewMode;
 
 /// Everything `radiosity view` is asked for, validated.
 #[derive(Clone, Debug)]

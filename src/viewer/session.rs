@@ -10,7 +10,7 @@ use crate::gl::{GlContext, GlError, Mesh, Texture, TextureFormat};
 use crate::glsl;
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
-use crate::solver::{mesh, GpuSolver, SolveError};
+use crate::solver::{mesh, GpuSolver, SolveError, SolveOptions};
 use std::time::{Duration, Instant};
 
 pub struct Session<'a> {
@@ -39,7 +39,11 @@ impl<'a> Session<'a> {
         mode: ViewMode,
         threshold: f32,
     ) -> Result<Session<'a>, SolveError> {
-        let mut solver = GpuSolver::new(ctx, scene, layout, mode.options(threshold))?;
+        let options = SolveOptions {
+            threshold,
+            ..mode.options()
+        };
+        let mut solver = GpuSolver::new(ctx, scene, layout, options)?;
         let size = (layout.atlas_width, layout.atlas_height);
         let display =
             DisplayPass::with_shaders(ctx, size, glsl!("viewer.vert"), glsl!("viewer.frag"))?;
