@@ -4,6 +4,7 @@
 pub mod check;
 pub mod context;
 mod egl;
+pub mod faults;
 pub mod objects;
 mod osmesa;
 pub mod program;

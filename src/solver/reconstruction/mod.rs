@@ -29,6 +29,7 @@ mod receivers;
 use super::mesh::ATTRIBUTES;
 use super::visibility::VisibilityPass;
 use super::{FormFactorKind, Shooter, SolveOptions, Tuning, VisibilityKind, MAX_CORNERS};
+use crate::gl::faults::{self, Fault};
 use crate::gl::program::Source;
 use crate::gl::{
     Framebuffer, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
@@ -404,9 +405,11 @@ impl ReconstructionPass {
 
     /// The paper's accumulation: glCopyTexSubImage2D from the renderbuffers into the lightmaps.
     pub fn copy_into(&self, ctx: &GlContext, lightmaps: &Lightmaps) -> Result<(), GlError> {
-        self.target
-            .fbo
-            .copy_to_texture(glow::COLOR_ATTACHMENT0, &lightmaps.radiosity);
+        if !faults::active(Fault::SkipAccumulationCopy) {
+            self.target
+                .fbo
+                .copy_to_texture(glow::COLOR_ATTACHMENT0, &lightmaps.radiosity);
+        }
         self.target
             .fbo
             .copy_to_texture(glow::COLOR_ATTACHMENT1, &lightmaps.unshot);

@@ -114,7 +114,9 @@ impl VisibilityPass {
             VisibilityKind::Hemisphere => glsl!("hemiproj.vert"),
             VisibilityKind::Hemicube => glsl!("hemicube.vert"),
         }
-        .insert(&glsl!("item_id.glsl").text);
+        .insert(&crate::gl::faults::item_id_source(
+            &glsl!("item_id.glsl").text,
+        ));
         let program = Program::new(
             gl,
             vertex,

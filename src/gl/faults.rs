@@ -1,0 +1,48 @@
+//! Deliberate faults in two GL paths, switched on by the environment variable
+//! `RADIOSITY_FAULT` (a comma-separated list), so that a test can prove that the golden check
+//! catches a broken driver path and names it (tests/drivers.rs). Never set in normal use; with
+//! the variable unset nothing here changes anything.
+//!
+//! - `skip-accumulation-copy`: the reconstruction pass's sums never reach the radiance
+//!   texture (as if glCopyTexSubImage2D did nothing).
+//! - `swap-id-bytes`: the item buffer gets each ID with its red and blue bytes swapped (as if a
+//!   driver stored RGBA8 as BGRA8).
+
+use std::sync::OnceLock;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fault {
+    SkipAccumulationCopy,
+    SwapIdBytes,
+}
+
+impl Fault {
+    fn name(self) -> &'static str {
+        match self {
+            Fault::SkipAccumulationCopy => "skip-accumulation-copy",
+            Fault::SwapIdBytes => "swap-id-bytes",
+        }
+    }
+}
+
+/// Whether `fault` is switched on for this process.
+pub fn active(fault: Fault) -> bool {
+    static LIST: OnceLock<String> = OnceLock::new();
+    LIST.get_or_init(|| std::env::var("RADIOSITY_FAULT").unwrap_or_default())
+        .split(',')
+        .any(|name| name.trim() == fault.name())
+}
+
+/// The item-ID encoding (glsl/item_id.glsl) as the visibility shaders get it.
+pub fn item_id_source(text: &str) -> String {
+    if !active(Fault::SwapIdBytes) {
+        return text.to_string();
+    }
+    let right = "vec4(float(n & 255), float((n >> 8) & 255), float((n >> 16) & 255), 255.0)";
+    let swapped = "vec4(float((n >> 16) & 255), float((n >> 8) & 255), float(n & 255), 255.0)";
+    assert!(
+        text.contains(right),
+        "item_id.glsl no longer has the encoding this fault swaps"
+    );
+    text.replace(right, swapped)
+}
