@@ -1,0 +1,287 @@
+//! The driver matrix (`radiosity check --drivers`, src/golden/drivers.rs): every software
+//! driver Debian 12 gives headless passes the golden cases, the JUnit XML and JSON agree with
+//! the rows printed, a deliberately broken GL path fails its named case on every driver, a
+//! driver that cannot start is reported as such, and each driver is deterministic on its own.
+//!
+//! llvmpipe, softpipe and OSMesa must be available (the CI installs them); zink is required
+//! where lavapipe is installed (mesa-vulkan-drivers) and must be reported unavailable otherwise.
+
+use gpu_radiosity::golden::drivers::Driver;
+use std::path::Path;
+use std::process::{Command, Output};
+
+const EXE: &str = env!("CARGO_BIN_EXE_radiosity");
+
+/// Every case but the two slow whole solves of the accurate mode (softpipe takes minutes on
+/// them): each GL path is still covered, by shadow-accurate and the probes. tests/golden.rs runs
+/// all cases on llvmpipe.
+const CASES: &str = "cornell-paper,box-paper,shadow-paper,shadow-accurate,ids-hemicube,\
+                     ids-hemisphere,shot-float-copy,shots-accumulate";
+
+fn lavapipe_installed() -> bool {
+    std::fs::read_dir("/usr/share/vulkan/icd.d")
+        .map(|dir| {
+            dir.flatten()
+                .any(|e| e.file_name().to_string_lossy().starts_with("lvp_icd"))
+        })
+        .unwrap_or(false)
+}
+
+fn check(args: &[&str], fault: Option<&str>, dir: &Path) -> Output {
+    let mut command = Command::new(EXE);
+    command.arg("check").args(args).current_dir(dir);
+    match fault {
+        Some(f) => command.env("RADIOSITY_FAULT", f),
+        None => command.env_remove("RADIOSITY_FAULT"),
+    };
+    command.output().unwrap()
+}
+
+/// The printed rows: (driver, case, result).
+fn rows(stdout: &str) -> Vec<(String, String, String)> {
+    stdout
+        .lines()
+        .skip(1)
+        .map(|l| l.split_whitespace().collect::<Vec<_>>())
+        .filter(|w| w.len() >= 3 && Driver::ALL.iter().any(|d| d.name() == w[0]))
+        .map(|w| {
+            (
+                w[0].to_string(),
+                w[1].to_string(),
+                w.last().unwrap().to_string(),
+            )
+        })
+        .collect()
+}
+
+fn text(out: &Output) -> String {
+    format!(
+        "status {:?}\n{}\n{}",
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    )
+}
+
+#[test]
+fn every_driver_passes_and_the_reports_agree() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = check(
+        &[
+            "--drivers",
+            "all",
+            "--cases",
+            CASES,
+            "--junit",
+            "out.xml",
+            "--json",
+            "out.json",
+        ],
+        None,
+        dir.path(),
+    );
+    let all = text(&out);
+    assert!(out.status.success(), "{all}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let rows = rows(&stdout);
+    let cases: Vec<&str> = CASES.split(',').collect();
+    let mut required = vec!["llvmpipe", "softpipe", "osmesa"];
+    if lavapipe_installed() {
+        required.push("zink");
+    } else {
+        assert!(
+            stdout.contains("zink      -                 unavailable"),
+            "{all}"
+        );
+    }
+    for driver in &required {
+        for case in &cases {
+            assert!(
+                rows.iter()
+                    .any(|(d, c, r)| d == driver && c == case && r == "pass"),
+                "no passing row for {driver} {case}:\n{all}"
+            );
+        }
+    }
+
+    // The JUnit XML, read back by a JUnit parser, has the same counts as the rows.
+    let xml = std::fs::read_to_string(dir.path().join("out.xml")).unwrap();
+    let report = quick_junit::Report::deserialize_from_str(&xml).unwrap();
+    assert_eq!(report.test_suites.len(), Driver::ALL.len(), "{xml}");
+    let ran: usize = rows.len();
+    let passed = report
+        .test_suites
+        .iter()
+        .flat_map(|s| &s.test_cases)
+        .filter(|c| matches!(c.status, quick_junit::TestCaseStatus::Success { .. }))
+        .count();
+    assert_eq!(passed, ran, "{xml}");
+    assert_eq!(report.failures, 0, "{xml}");
+    assert_eq!(report.tests, Driver::ALL.len() * cases.len(), "{xml}");
+    for suite in &report.test_suites {
+        assert_eq!(
+            suite.test_cases.len(),
+            cases.len(),
+            "{}",
+            suite.name.as_str()
+        );
+    }
+    // Independently of the parser: one <testcase> element per driver and case.
+    assert_eq!(
+        xml.matches("<testcase ").count(),
+        Driver::ALL.len() * cases.len()
+    );
+
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("out.json")).unwrap())
+            .unwrap();
+    let outcomes: usize = json["drivers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["outcomes"].as_array().unwrap().len())
+        .sum();
+    assert_eq!(outcomes, ran);
+    for d in json["drivers"].as_array().unwrap() {
+        let name = d["driver"].as_str().unwrap();
+        if required.contains(&name) {
+            assert_eq!(d["status"], "ran", "{d}");
+            assert!(!d["renderer"].as_str().unwrap().is_empty());
+        }
+    }
+}
+
+#[test]
+fn a_broken_gl_path_fails_its_named_case_on_every_driver() {
+    let dir = tempfile::tempdir().unwrap();
+    for (fault, broken, intact) in [
+        (
+            "swap-id-bytes",
+            ["ids-hemicube", "ids-hemisphere"],
+            "shots-accumulate",
+        ),
+        (
+            "skip-accumulation-copy",
+            ["shot-float-copy", "shots-accumulate"],
+            "ids-hemicube",
+        ),
+    ] {
+        let cases = format!("{},{},{intact}", broken[0], broken[1]);
+        let out = check(
+            &["--drivers", "all", "--cases", &cases, "--junit", "out.xml"],
+            Some(fault),
+            dir.path(),
+        );
+        let all = text(&out);
+        assert_eq!(out.status.code(), Some(1), "{fault}: {all}");
+        let rows = rows(&String::from_utf8_lossy(&out.stdout));
+        for driver in ["llvmpipe", "softpipe", "osmesa"] {
+            for case in broken {
+                assert!(
+                    rows.iter()
+                        .any(|(d, c, r)| d == driver && c == case && r == "FAIL"),
+                    "{fault}: {driver} {case} did not fail:\n{all}"
+                );
+            }
+            if fault == "skip-accumulation-copy" {
+                // The item buffer does not go through the copy: its case still passes.
+                assert!(
+                    rows.iter()
+                        .any(|(d, c, r)| d == driver && c == intact && r == "pass"),
+                    "{fault}: {driver} {intact}:\n{all}"
+                );
+            }
+        }
+        let xml = std::fs::read_to_string(dir.path().join("out.xml")).unwrap();
+        assert!(xml.contains("<failure"), "{xml}");
+    }
+}
+
+#[test]
+fn a_driver_that_cannot_start_is_reported_not_failed() {
+    let dir = tempfile::tempdir().unwrap();
+    // With no Vulkan driver to find, zink cannot start (Mesa may fall back to llvmpipe, which
+    // the check notices from GL_RENDERER).
+    let run = |drivers: &str| {
+        Command::new(EXE)
+            .args(["check", "--drivers", drivers, "--cases", "ids-hemisphere"])
+            .env("VK_ICD_FILENAMES", "/nonexistent/icd.json")
+            .env("VK_DRIVER_FILES", "/nonexistent/icd.json")
+            .current_dir(dir.path())
+            .output()
+            .unwrap()
+    };
+    let out = run("llvmpipe,zink,osmesa");
+    let all = text(&out);
+    // Named on its own, a driver that cannot start is an error; the others still ran.
+    assert_eq!(out.status.code(), Some(1), "{all}");
+    assert!(all.contains("zink could not start"), "{all}");
+    assert!(all.contains("unavailable"), "{all}");
+    let rows = rows(&String::from_utf8_lossy(&out.stdout));
+    for driver in ["llvmpipe", "osmesa"] {
+        assert!(
+            rows.iter().any(|(d, _, r)| d == driver && r == "pass"),
+            "{all}"
+        );
+    }
+    // As part of `all`, it is only reported.
+    let out = run("all");
+    assert!(out.status.success(), "{}", text(&out));
+}
+
+/// `radiosity solve` twice on `driver`: the files are identical.
+fn solve_twice(driver: Driver) {
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = Vec::new();
+    for run in ["a", "b"] {
+        let out_dir = dir.path().join(run);
+        let mut command = Command::new(EXE);
+        command
+            .args([
+                "solve",
+                "--patches",
+                "400",
+                "--max-shots",
+                "40",
+                "--size",
+                "64x64",
+            ])
+            .arg("--backend")
+            .arg(if driver == Driver::Osmesa {
+                "osmesa"
+            } else {
+                "egl"
+            })
+            .arg("--out")
+            .arg(&out_dir);
+        for var in [
+            "GALLIUM_DRIVER",
+            "MESA_LOADER_DRIVER_OVERRIDE",
+            "LIBGL_ALWAYS_SOFTWARE",
+        ] {
+            command.env_remove(var);
+        }
+        let out = command
+            .envs(driver.environment().iter().copied())
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{driver:?}: {}", text(&out));
+        files.push(["image.exr", "lightmap.exr"].map(|f| std::fs::read(out_dir.join(f)).unwrap()));
+    }
+    assert!(
+        files[0] == files[1],
+        "{driver:?}: two runs gave different files"
+    );
+}
+
+#[test]
+fn each_driver_gives_identical_files_run_after_run() {
+    let mut drivers = vec![Driver::Softpipe, Driver::Osmesa];
+    if lavapipe_installed() {
+        drivers.push(Driver::Zink);
+    }
+    // llvmpipe: tests/determinism.rs.
+    for driver in drivers {
+        solve_twice(driver);
+    }
+}
