@@ -275,3 +275,55 @@ impl Scene {
         })
     }
 }
+
+#[cfg(test)]
+mod camera_tests {
+    use super::*;
+
+    fn camera() -> Camera {
+        Camera {
+            eye: Vec3::new(0.0, 0.0, -5.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y: 40.0,
+        }
+    }
+
+    #[test]
+    fn validate_refuses_what_makes_no_picture() {
+        assert_eq!(camera().validate(), Ok(()));
+        let with = |f: fn(&mut Camera)| {
+            let mut c = camera();
+            f(&mut c);
+            c.validate()
+        };
+        assert!(matches!(
+            with(|c| c.eye.x = f32::NAN),
+            Err(CameraError::NotFinite("eye"))
+        ));
+        assert!(matches!(
+            with(|c| c.target = c.eye),
+            Err(CameraError::EyeIsTarget(_))
+        ));
+        assert_eq!(with(|c| c.up = Vec3::ZERO), Err(CameraError::UpZero));
+        assert!(matches!(
+            with(|c| c.up = Vec3::Z),
+            Err(CameraError::UpParallel { .. })
+        ));
+        // A little off the view direction is a tilted picture, not an undefined one.
+        assert_eq!(with(|c| c.up = Vec3::new(0.0, 0.01, 1.0)), Ok(()));
+        for fov in [0.0, 0.5, 179.5, 180.0, -50.0, f32::NAN] {
+            let mut c = camera();
+            c.fov_y = fov;
+            assert!(c.validate().is_err(), "{fov}");
+        }
+        // Coordinates near f32::MAX: the view direction's length overflows f32, not the check.
+        assert_eq!(
+            with(|c| {
+                c.eye = Vec3::new(-3e38, 0.0, 0.0);
+                c.target = Vec3::new(3e38, 0.0, 0.0);
+            }),
+            Ok(())
+        );
+    }
+}
