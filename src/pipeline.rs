@@ -21,11 +21,12 @@
 //! [`Solver`] driven shot by shot) → display ([`render`], [`write_outputs`]).
 
 use crate::display::{self, output, Image};
-use crate::gl::{GlContext, GlError, GlInfo};
+use crate::gl::{limits, GlContext, GlError, GlInfo, LimitError};
 use crate::patches::{LayoutError, PatchLayout, Resolution};
 use crate::scene::{bundled, Camera, Scene, SceneError};
 use crate::solver::{
-    Backend, CpuSolver, GpuSolver, PassTimes, ShotRecord, SolveError, SolveOptions, Solver,
+    visibility, Backend, CpuSolver, GpuSolver, PassTimes, ShotRecord, SolveError, SolveOptions,
+    Solver, VisibilityKind,
 };
 use glam::Vec3;
 use std::path::{Path, PathBuf};
@@ -110,6 +111,50 @@ pub fn check_settings(
         return Err(SettingsError::Patches);
     }
     Ok(())
+}
+
+/// A render target whose size a setting decides.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Target {
+    /// The lightmap atlas (patch size or count): both solvers' display draws from it.
+    Atlas,
+    /// The GPU solver's item buffer (its resolution).
+    ItemBuffer,
+    /// The picture (its size).
+    Image,
+}
+
+/// A render target this driver cannot hold, and which one.
+#[derive(Debug, thiserror::Error)]
+#[error("{error}")]
+pub struct TargetTooLarge {
+    pub target: Target,
+    pub error: LimitError,
+}
+
+/// Refuse, before any solving, the render targets this driver cannot hold: the lightmap atlas
+/// (RGBA32F), the GPU solver's item buffer (RGBA8) and the `image` (RGBA32F). Each is checked
+/// against the GL size limits and made once (see [`crate::gl::limits`]).
+pub fn check_limits(
+    ctx: &GlContext,
+    layout: &PatchLayout,
+    kind: SolverKind,
+    options: &SolveOptions,
+    image: (u32, u32),
+) -> Result<(), TargetTooLarge> {
+    let at = |target| move |error| TargetTooLarge { target, error };
+    let (w, h) = (layout.atlas_width as u64, layout.atlas_height as u64);
+    limits::check_target(ctx, "lightmap atlas", w, h, glow::RGBA32F).map_err(at(Target::Atlas))?;
+    if kind == SolverKind::Gpu {
+        let (w, h) = visibility::item_buffer_size(options.visibility, options.hemi_res);
+        let what = match options.visibility {
+            VisibilityKind::Hemicube => "item buffer (five hemicube faces side by side)",
+            VisibilityKind::Hemisphere => "item buffer",
+        };
+        limits::check_target(ctx, what, w, h, glow::RGBA8).map_err(at(Target::ItemBuffer))?;
+    }
+    let (w, h) = (image.0 as u64, image.1 as u64);
+    limits::check_target(ctx, "image", w, h, glow::RGBA32F).map_err(at(Target::Image))
 }
 
 /// Load an OBJ scene (with its MTL), or the Cornell box built into the library for `None`;

@@ -41,17 +41,36 @@ pub struct BenchArgs {
     pub what: String,
     #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
     pub backend: BackendChoice,
-    /// Stopping rule: unshot power / emitted power.
-    #[arg(long, default_value_t = 0.01)]
+    /// Stopping rule: unshot power / emitted power (0 < F < 1).
+    #[arg(
+        long,
+        default_value_t = 0.01,
+        value_parser = super::values::threshold,
+        allow_hyphen_values = true,
+    )]
     pub threshold: f32,
-    /// Runs per measurement; the median is reported.
-    #[arg(long, default_value_t = 1)]
+    /// Runs per measurement, 1 to 1000; the median is reported.
+    #[arg(
+        long,
+        default_value_t = 1,
+        value_parser = clap::value_parser!(u32).range(1..=super::values::MAX_REPEAT as i64),
+        allow_hyphen_values = true,
+    )]
     pub repeat: u32,
     /// Only these rooms (simple, complex).
-    #[arg(long, value_delimiter = ',', default_values_t = ["simple".to_string(), "complex".to_string()])]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_values_t = ["simple".to_string(), "complex".to_string()],
+    )]
     pub scenes: Vec<String>,
-    /// Worker threads of the CPU solver (0: one per core).
-    #[arg(long, default_value_t = 0)]
+    /// Worker threads of the CPU solver (0: one per core; at most 4 per core).
+    #[arg(
+        long,
+        default_value_t = 0,
+        value_parser = super::values::threads,
+        allow_hyphen_values = true,
+    )]
     pub threads: usize,
     /// Also write the table as JSON.
     #[arg(long)]

@@ -5,6 +5,7 @@ mod check;
 mod info;
 mod solve;
 mod validate;
+mod values;
 mod view;
 
 use clap::{Parser, Subcommand};
@@ -37,6 +38,12 @@ pub enum Command {
     /// Open a window that lights the scene shot by shot, with the passes' pictures and a panel.
     View(view::ViewArgs),
 }
+
+/// A usage error found after parsing (values that are fine alone but not together, such as
+/// `--eye` equal to `--target`): `main` exits with status 2, as clap does for its own.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct UsageError(pub String);
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {

@@ -1,14 +1,16 @@
 //! `radiosity solve [SCENE.obj]`: scene → patches → GPU solver → display → files.
 
+use super::{values, UsageError};
 use crate::display;
 use crate::gl::{BackendChoice, GlContext, GlInfo};
-use crate::pipeline::{self, SettingsError, Stats};
+use crate::pipeline::{self, SettingsError, Stats, Target};
 pub use crate::pipeline::{Mode, SolverKind};
-use crate::scene::Camera;
+use crate::scene::{Camera, Scene};
 use crate::solver::{
     FormFactorKind, GpuSolver, ShotRecord, SolveError, SolveOptions, VisibilityKind,
 };
 use anyhow::{bail, Context, Result};
+use clap::value_parser;
 use glam::Vec3;
 use std::cell::RefCell;
 use std::io::IsTerminal;
@@ -28,20 +30,37 @@ pub struct SolveArgs {
     /// visibility (the display still uses OpenGL).
     #[arg(long, value_enum, default_value_t = SolverKind::Gpu)]
     pub solver: SolverKind,
-    /// Worker threads of the CPU solver (0: one per core). The result is the same for any count.
-    #[arg(long, default_value_t = 0)]
+    /// Worker threads of the CPU solver (0: one per core; at most 4 per core). The result is the
+    /// same for any count.
+    #[arg(long, default_value_t = 0, value_parser = values::threads, allow_hyphen_values = true)]
     pub threads: usize,
-    /// Stop when unshot power / emitted power ≤ this.
-    #[arg(long, default_value_t = 0.01)]
+    /// Stop when unshot power / emitted power ≤ this (0 < F < 1).
+    #[arg(
+        long,
+        default_value_t = 0.01,
+        value_parser = values::threshold,
+        allow_hyphen_values = true,
+    )]
     pub threshold: f32,
-    /// Stop after this many shots at most.
-    #[arg(long, default_value_t = 10_000)]
+    /// Stop after this many shots at most (0 to 1,000,000; 0: the emitters alone).
+    #[arg(
+        long,
+        default_value_t = 10_000,
+        value_parser = value_parser!(u32).range(0..=values::MAX_SHOTS as i64),
+        allow_hyphen_values = true,
+    )]
     pub max_shots: u32,
-    /// Aim at about this many patches (default 4096 unless the scene sets a patch size).
-    #[arg(long, conflicts_with = "patch_size")]
+    /// Aim at about this many patches, 1 to 1,048,576 (default 4096 unless the scene sets a
+    /// patch size).
+    #[arg(
+        long,
+        conflicts_with = "patch_size",
+        value_parser = value_parser!(u32).range(1..=values::MAX_PATCHES as i64),
+        allow_hyphen_values = true,
+    )]
     pub patches: Option<u32>,
-    /// Patch side in scene units.
-    #[arg(long)]
+    /// Patch side in scene units (> 0).
+    #[arg(long, value_parser = values::positive, allow_hyphen_values = true)]
     pub patch_size: Option<f32>,
     /// `paper`: the paper's algorithm literally; `accurate`: with the corrections listed in
     /// paper_notes.md. The four options below override single settings of the mode.
@@ -49,19 +68,27 @@ pub struct SolveArgs {
     pub mode: Mode,
     /// Item-buffer resolution (pixels per side; per face for the hemicube). Mode default:
     /// paper 512, accurate 256.
-    #[arg(long)]
+    #[arg(long, value_parser = values::hemi_res(), allow_hyphen_values = true)]
     pub hemi_res: Option<u32>,
     /// Longest edge of the visibility pass's triangles, in patch sizes (0: whole polygons).
     /// Default 0; worth 1-2 with `--visibility hemisphere`, whose projection curves edges.
-    #[arg(long)]
+    #[arg(long, value_parser = values::tessellation, allow_hyphen_values = true)]
     pub tessellate: Option<f32>,
     /// Side, in patches, of the cells a polygon shoots from (0: the whole polygon from its
-    /// centroid). Mode default: paper 0, accurate 4.
-    #[arg(long)]
+    /// centroid; at most 16384). Mode default: paper 0, accurate 4.
+    #[arg(
+        long,
+        value_parser = value_parser!(u32).range(0..=values::MAX_CELL as i64),
+        allow_hyphen_values = true,
+    )]
     pub shooter_cell: Option<u32>,
     /// The same for emitters (their first shot is the direct light). Mode default: paper 0,
     /// accurate 1.
-    #[arg(long)]
+    #[arg(
+        long,
+        value_parser = value_parser!(u32).range(0..=values::MAX_CELL as i64),
+        allow_hyphen_values = true,
+    )]
     pub emitter_cell: Option<u32>,
     /// Form factor: point (paper) or polygon (exact for the shooter's cell).
     #[arg(long, value_enum)]
@@ -76,22 +103,28 @@ pub struct SolveArgs {
     pub target: Option<Vec3>,
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub up: Option<Vec3>,
-    /// Vertical field of view, degrees.
-    #[arg(long)]
+    /// Vertical field of view, degrees (1 to 179).
+    #[arg(long, value_parser = values::fov, allow_hyphen_values = true)]
     pub fov: Option<f32>,
     /// Image size, WxH.
-    #[arg(long, value_parser = parse_size, default_value = "512x512")]
+    #[arg(long, value_parser = parse_size, default_value = "512x512", allow_hyphen_values = true)]
     pub size: (u32, u32),
     /// Show an unconverged solution with Cohen et al.'s (1988) ambient term added (images only;
     /// lightmap.exr stays the solver's answer).
     #[arg(long)]
     pub ambient: bool,
-    /// Multiplier applied to radiance before tone mapping image.png.
-    #[arg(long, default_value_t = 1.0)]
+    /// Multiplier applied to radiance before tone mapping image.png (finite, > 0).
+    #[arg(long, default_value_t = 1.0, value_parser = values::positive, allow_hyphen_values = true)]
     pub exposure: f32,
     /// Write pictures of these shots' passes into the output directory (item buffer, ΔL, atlas
     /// before and after; see src/display/passes.rs), e.g. `--dump-passes 1,2,10`.
-    #[arg(long, value_delimiter = ',', value_name = "K[,K...]")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "K[,K...]",
+        value_parser = value_parser!(u32).range(1..=values::MAX_SHOTS as i64),
+        allow_hyphen_values = true,
+    )]
     pub dump_passes: Vec<u32>,
     /// Write convergence.png: unshot fraction against shot and against time, log scale.
     #[arg(long)]
@@ -184,6 +217,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     check_solve_settings(args.threshold, args.patch_size, args.patches)?;
     let (scene, scene_path) = pipeline::load_scene(args.scene.as_deref())?;
     let scene_name = scene_path.display().to_string();
+    check_camera(args, &scene)?;
     let out_dir = args
         .out
         .clone()
@@ -195,6 +229,16 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     }
 
     let layout = pipeline::lay_out(&scene, args.patch_size, args.patches)?;
+    // A patch size (from the flag or the scene) can ask for more patches than --patches may.
+    if layout.patch_count() > values::MAX_PATCHES as u64 {
+        bail!(
+            "the patch size {} gives {} patches, more than {} (the most --patches allows): use \
+             a larger --patch-size",
+            layout.patch_size,
+            layout.patch_count(),
+            values::MAX_PATCHES
+        );
+    }
     let ctx = GlContext::headless(args.backend)?;
     let info: &GlInfo = &ctx.info;
     eprintln!(
@@ -217,6 +261,14 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     );
 
     let options = args.options();
+    pipeline::check_limits(&ctx, &layout, args.solver, &options, args.size).map_err(|e| {
+        let flags = match e.target {
+            Target::Atlas => "--patch-size / --patches",
+            Target::ItemBuffer => "--hemi-res",
+            Target::Image => "--size",
+        };
+        anyhow::anyhow!("{e} (set with {flags})")
+    })?;
     let bar = progress_bar(args.threshold);
     let progress = |r: &ShotRecord| {
         bar.set_position(progress_position(r.unshot_fraction, args.threshold));
@@ -309,6 +361,37 @@ pub(crate) fn with_flags(e: SolveError) -> anyhow::Error {
         Some(flags) => anyhow::anyhow!("{e} (set with {flags})"),
         None => e.into(),
     }
+}
+
+/// Check the camera the picture will be taken with (the flags' values over the scene's camera)
+/// before solving. A usage error when flags set part of it; the scene's own camera line was
+/// checked when the scene loaded.
+fn check_camera(args: &SolveArgs, scene: &Scene) -> Result<()> {
+    let Err(e) = camera_from(args, scene.camera_or_default()).validate() else {
+        return Ok(());
+    };
+    let given: Vec<&str> = [
+        ("--eye", args.eye.is_some()),
+        ("--target", args.target.is_some()),
+        ("--up", args.up.is_some()),
+        ("--fov", args.fov.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(flag, set)| set.then_some(flag))
+    .collect();
+    let rest = if scene.camera.is_some() {
+        "the scene's `# camera` line"
+    } else {
+        "the default view of the scene's bounds"
+    };
+    if given.is_empty() {
+        bail!("the camera from {rest}: {e}");
+    }
+    Err(UsageError(format!(
+        "the camera set with {} (the rest from {rest}): {e}",
+        given.join(", ")
+    ))
+    .into())
 }
 
 fn camera_from(args: &SolveArgs, base: Camera) -> Camera {

@@ -1,9 +1,11 @@
 //! `radiosity view [SCENE.obj]`: the interactive viewer (see src/viewer/).
 
 use super::solve::{parse_size, Mode};
+use super::values;
 use crate::pipeline::DEFAULT_PATCHES;
 use crate::viewer::{self, Overlay, ViewOptions};
-use anyhow::{bail, Result};
+use anyhow::Result;
+use clap::value_parser;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug, Clone)]
@@ -13,23 +15,39 @@ pub struct ViewArgs {
     /// `paper` or `accurate`, as for `solve` (switch in the window with M).
     #[arg(long, value_enum, default_value_t = Mode::Accurate)]
     pub mode: Mode,
-    /// Stop when unshot power / emitted power ≤ this.
-    #[arg(long, default_value_t = 0.01)]
+    /// Stop when unshot power / emitted power ≤ this (0 < F < 1).
+    #[arg(
+        long,
+        default_value_t = 0.01,
+        value_parser = values::threshold,
+        allow_hyphen_values = true,
+    )]
     pub threshold: f32,
-    /// Aim at about this many patches (default 4096 unless the scene sets a patch size).
-    #[arg(long, conflicts_with = "patch_size")]
+    /// Aim at about this many patches, 1 to 1,048,576 (default 4096 unless the scene sets a
+    /// patch size).
+    #[arg(
+        long,
+        conflicts_with = "patch_size",
+        value_parser = value_parser!(u32).range(1..=values::MAX_PATCHES as i64),
+        allow_hyphen_values = true,
+    )]
     pub patches: Option<u32>,
-    /// Patch side in scene units.
-    #[arg(long)]
+    /// Patch side in scene units (> 0).
+    #[arg(long, value_parser = values::positive, allow_hyphen_values = true)]
     pub patch_size: Option<f32>,
     /// Size of the scene view, WxH pixels (the panel is added on the right).
-    #[arg(long, value_parser = parse_size, default_value = "720x720")]
+    #[arg(long, value_parser = parse_size, default_value = "720x720", allow_hyphen_values = true)]
     pub size: (u32, u32),
-    /// Multiplier applied to radiance before tone mapping, as for `solve`.
-    #[arg(long, default_value_t = 1.0)]
+    /// Multiplier applied to radiance before tone mapping, as for `solve` (finite, > 0).
+    #[arg(long, default_value_t = 1.0, value_parser = values::positive, allow_hyphen_values = true)]
     pub exposure: f32,
-    /// Most shots per frame while running (the window stays responsive).
-    #[arg(long, default_value_t = 4)]
+    /// Most shots per frame while running, 1 to 64 (the window stays responsive).
+    #[arg(
+        long,
+        default_value_t = 4,
+        value_parser = value_parser!(u32).range(1..=64),
+        allow_hyphen_values = true,
+    )]
     pub shots_per_frame: u32,
     /// Overlays on at the start (keys 1-5 switch them).
     #[arg(long, value_enum, value_delimiter = ',', default_value = "shooter")]
@@ -37,19 +55,19 @@ pub struct ViewArgs {
     /// Run, and after --after-shots shots save the whole window to this PNG and exit.
     #[arg(long, requires = "after_shots")]
     pub screenshot: Option<PathBuf>,
-    /// Shots before the screenshot (fewer if the solve converges first).
-    #[arg(long, requires = "screenshot")]
+    /// Shots before the screenshot, 0 to 1,000,000 (fewer if the solve converges first).
+    #[arg(
+        long,
+        requires = "screenshot",
+        value_parser = value_parser!(u32).range(0..=values::MAX_SHOTS as i64),
+        allow_hyphen_values = true,
+    )]
     pub after_shots: Option<u32>,
 }
 
 pub fn run_view(args: &ViewArgs) -> Result<()> {
+    // The flags' ranges are checked while parsing (values.rs); this is for the library's rules.
     super::solve::check_solve_settings(args.threshold, args.patch_size, args.patches)?;
-    if !(1..=64).contains(&args.shots_per_frame) {
-        bail!("--shots-per-frame must be between 1 and 64");
-    }
-    if !(args.exposure > 0.0 && args.exposure.is_finite()) {
-        bail!("--exposure must be a positive number");
-    }
     viewer::run(ViewOptions {
         scene: args.scene.clone(),
         mode: args.mode,

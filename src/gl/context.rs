@@ -44,6 +44,8 @@ pub struct GlInfo {
     pub glsl_version: String,
     pub max_texture_size: i32,
     pub max_renderbuffer_size: i32,
+    /// GL_MAX_VIEWPORT_DIMS: the widest and tallest viewport.
+    pub max_viewport_dims: [i32; 2],
     pub khr_debug: bool,
 }
 
@@ -116,6 +118,8 @@ impl GlContext {
             ));
         }
         let debug = DebugLog::install(&mut gl);
+        let mut max_viewport_dims = [0; 2];
+        unsafe { gl.get_parameter_i32_slice(glow::MAX_VIEWPORT_DIMS, &mut max_viewport_dims) };
         let info = unsafe {
             GlInfo {
                 backend: kind,
@@ -125,6 +129,7 @@ impl GlContext {
                 glsl_version: gl.get_parameter_string(glow::SHADING_LANGUAGE_VERSION),
                 max_texture_size: gl.get_parameter_i32(glow::MAX_TEXTURE_SIZE),
                 max_renderbuffer_size: gl.get_parameter_i32(glow::MAX_RENDERBUFFER_SIZE),
+                max_viewport_dims,
                 khr_debug: debug.is_some(),
             }
         };

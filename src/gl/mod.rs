@@ -5,6 +5,7 @@ pub mod check;
 pub mod context;
 mod egl;
 pub mod faults;
+pub mod limits;
 pub mod objects;
 mod osmesa;
 pub mod program;
@@ -12,6 +13,7 @@ pub mod window;
 
 pub use check::GlError;
 pub use context::{BackendChoice, BackendKind, GlContext, GlInfo};
+pub use limits::LimitError;
 pub use objects::{Framebuffer, IndexStream, Mesh, Renderbuffer, Texture, TextureFormat};
 pub use program::Program;
 

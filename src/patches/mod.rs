@@ -148,7 +148,10 @@ impl PatchLayout {
         for (i, p) in scene.polygons.iter().enumerate() {
             let lm = fit_lightmap(&p.vertices, p.normal, patch_size);
             if lm.w > max - 2 || lm.h > max - 2 {
-                let scale = lm.w.max(lm.h) as f32 / (max - 2) as f32;
+                // From a lightmap of about 1000 texels: at tiny patch sizes `lm`'s sides saturate.
+                let probe = p.bounding_sphere().1 / 500.0;
+                let at = fit_lightmap(&p.vertices, p.normal, probe);
+                let fits = probe * at.w.max(at.h) as f32 / (max - 2) as f32;
                 return Err(LayoutError::Lightmap {
                     polygon: i,
                     object: p.object.clone(),
@@ -156,7 +159,7 @@ impl PatchLayout {
                     h: lm.h,
                     size: patch_size,
                     max,
-                    suggest: three_digits_up(patch_size * scale * 1.05),
+                    suggest: three_digits_up(fits * 1.05),
                 });
             }
             lightmaps.push(lm);

@@ -125,6 +125,71 @@ pub struct Camera {
     pub fov_y: f32,
 }
 
+/// The field of view a camera may have, degrees: 0 and 180 make the projection singular; 1 and
+/// 179 keep it well conditioned (tan 89.5° ≈ 115).
+pub const FOV_RANGE: std::ops::RangeInclusive<f32> = 1.0..=179.0;
+
+/// Why a camera cannot make a picture.
+#[derive(Debug, PartialEq, thiserror::Error)]
+pub enum CameraError {
+    #[error("the {0} is not three finite numbers")]
+    NotFinite(&'static str),
+    #[error("the eye and the target are the same point ({0}), so there is no view direction")]
+    EyeIsTarget(String),
+    #[error("the up vector is zero")]
+    UpZero,
+    #[error(
+        "the up vector ({up}) is parallel to the view direction ({view}), so the picture's \
+         vertical is undefined"
+    )]
+    UpParallel { up: String, view: String },
+    #[error("the field of view {0}° is outside 1 to 179 degrees")]
+    Fov(f32),
+}
+
+impl Camera {
+    /// Refuse a camera that gives a black, flipped or speckled picture: non-finite values, no
+    /// view direction, an up vector that is zero or along the view, a field of view outside
+    /// [`FOV_RANGE`].
+    pub fn validate(&self) -> Result<(), CameraError> {
+        for (name, v) in [("eye", self.eye), ("target", self.target), ("up", self.up)] {
+            if !v.is_finite() {
+                return Err(CameraError::NotFinite(name));
+            }
+        }
+        // In f64: coordinates near f32::MAX overflow the f32 length.
+        let (eye, target, up) = (
+            self.eye.as_dvec3(),
+            self.target.as_dvec3(),
+            self.up.as_dvec3(),
+        );
+        let view = target - eye;
+        let scale = eye.abs().max(target.abs()).max_element();
+        // Closer than the coordinates' float rounding: the direction would be noise.
+        if view.length() <= 1e-6 * scale || view.length() == 0.0 {
+            return Err(CameraError::EyeIsTarget(show(self.eye)));
+        }
+        if up.length() == 0.0 {
+            return Err(CameraError::UpZero);
+        }
+        // Within about 0.06° of the view direction the picture's roll is float noise.
+        if view.normalize().cross(up.normalize()).length() <= 1e-3 {
+            return Err(CameraError::UpParallel {
+                up: show(self.up),
+                view: show(view.as_vec3()),
+            });
+        }
+        if !FOV_RANGE.contains(&self.fov_y) {
+            return Err(CameraError::Fov(self.fov_y));
+        }
+        Ok(())
+    }
+}
+
+fn show(v: Vec3) -> String {
+    format!("{},{},{}", v.x, v.y, v.z)
+}
+
 #[derive(Clone, Debug)]
 pub struct Scene {
     pub name: String,
@@ -208,5 +273,57 @@ impl Scene {
                 fov_y: 40.0,
             }
         })
+    }
+}
+
+#[cfg(test)]
+mod camera_tests {
+    use super::*;
+
+    fn camera() -> Camera {
+        Camera {
+            eye: Vec3::new(0.0, 0.0, -5.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y: 40.0,
+        }
+    }
+
+    #[test]
+    fn validate_refuses_what_makes_no_picture() {
+        assert_eq!(camera().validate(), Ok(()));
+        let with = |f: fn(&mut Camera)| {
+            let mut c = camera();
+            f(&mut c);
+            c.validate()
+        };
+        assert!(matches!(
+            with(|c| c.eye.x = f32::NAN),
+            Err(CameraError::NotFinite("eye"))
+        ));
+        assert!(matches!(
+            with(|c| c.target = c.eye),
+            Err(CameraError::EyeIsTarget(_))
+        ));
+        assert_eq!(with(|c| c.up = Vec3::ZERO), Err(CameraError::UpZero));
+        assert!(matches!(
+            with(|c| c.up = Vec3::Z),
+            Err(CameraError::UpParallel { .. })
+        ));
+        // A little off the view direction is a tilted picture, not an undefined one.
+        assert_eq!(with(|c| c.up = Vec3::new(0.0, 0.01, 1.0)), Ok(()));
+        for fov in [0.0, 0.5, 179.5, 180.0, -50.0, f32::NAN] {
+            let mut c = camera();
+            c.fov_y = fov;
+            assert!(c.validate().is_err(), "{fov}");
+        }
+        // Coordinates near f32::MAX: the view direction's length overflows f32, not the check.
+        assert_eq!(
+            with(|c| {
+                c.eye = Vec3::new(-3e38, 0.0, 0.0);
+                c.target = Vec3::new(3e38, 0.0, 0.0);
+            }),
+            Ok(())
+        );
     }
 }

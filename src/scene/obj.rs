@@ -245,9 +245,13 @@ fn parse_comments(path: &Path, text: &str) -> Result<Header, SceneError> {
         if line.starts_with("v ") || line.starts_with("v\t") {
             header.vertex_count += 1;
         } else if let Some(rest) = line.strip_prefix("# camera") {
-            header.camera = Some(parse_camera(rest).ok_or_else(|| {
+            let camera = parse_camera(rest).ok_or_else(|| {
                 bad("expected `# camera eye X Y Z target X Y Z up X Y Z fov DEG`")
-            })?);
+            })?;
+            camera
+                .validate()
+                .map_err(|e| bad(&format!("bad `# camera` line: {e}")))?;
+            header.camera = Some(camera);
         } else if let Some(rest) = line.strip_prefix("# patch-size") {
             let s: f32 = rest
                 .trim()

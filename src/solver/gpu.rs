@@ -70,10 +70,12 @@ impl<'a> GpuBackend<'a> {
                 suggest: crate::patches::three_digits_up(layout.patch_size * scale),
             });
         }
-        if options.hemi_res < 16 || options.hemi_res as i64 > max as i64 {
+        // The hemicube's item buffer is five faces wide.
+        let faces = super::visibility::item_buffer_size(options.visibility, 1).0 as i32;
+        if options.hemi_res < 16 || options.hemi_res as i64 > (max / faces) as i64 {
             return Err(SolveError::HemiRes {
                 res: options.hemi_res,
-                max,
+                max: max / faces,
             });
         }
         if !(options.tessellation >= 0.0 && options.tessellation.is_finite()) {

@@ -99,6 +99,16 @@ pub fn face_rotations() -> [Mat3; 5] {
     ]
 }
 
+/// The item buffer's width and height at resolution `res`: the hemicube's five faces side by
+/// side, or the hemisphere's one square.
+pub fn item_buffer_size(kind: VisibilityKind, res: u32) -> (u64, u64) {
+    let faces = match kind {
+        VisibilityKind::Hemicube => 5,
+        VisibilityKind::Hemisphere => 1,
+    };
+    (faces * res as u64, res as u64)
+}
+
 impl VisibilityPass {
     pub fn new(
         ctx: &GlContext,
@@ -125,11 +135,7 @@ impl VisibilityPass {
             &[(0, "Color")],
         )?;
         let res = resolution as i32;
-        let width = if kind == VisibilityKind::Hemicube {
-            5 * res
-        } else {
-            res
-        };
+        let width = item_buffer_size(kind, resolution).0 as i32;
         // NEAREST: an ID must never be blended with its neighbour's.
         let item_buffer = Texture::new(gl, width, res, TextureFormat::Rgba8, glow::NEAREST)?;
         // Float depth (GL 3.0) or 24-bit integers: `Tuning::float_depth`.
