@@ -74,17 +74,20 @@ pub fn compare(
         let i = 3 * (y * width + x);
         [data[i], data[i + 1], data[i + 2]]
     };
-    // The smallest largest-channel difference between got(x, y) and the reference around it.
-    let nearest = |x: usize, y: usize| -> f64 {
+    // got(x, y) against the closest reference pixel around it: (sum of squared channel
+    // differences, largest channel difference) of that pixel. NaN counts as far off.
+    let nearest = |x: usize, y: usize| -> (f64, f64) {
         let g = px(got, x, y);
-        let mut best = f64::INFINITY;
+        let mut best = (f64::INFINITY, f64::INFINITY);
         for ny in y.saturating_sub(1)..=(y + 1).min(height - 1) {
             for nx in x.saturating_sub(1)..=(x + 1).min(width - 1) {
                 let r = px(reference, nx, ny);
-                let d = (0..3)
-                    .map(|c| (g[c] as f64 - r[c] as f64).abs())
-                    .fold(0.0, f64::max);
-                best = best.min(d);
+                let d = (0..3).map(|c| (g[c] as f64 - r[c] as f64).abs());
+                let sq: f64 = d.clone().map(|v| v * v).sum();
+                let worst = d.fold(0.0, f64::max);
+                if sq < best.0 {
+                    best = (sq, worst);
+                }
             }
         }
         best
@@ -110,14 +113,12 @@ pub fn compare(
             let (mut sq, mut outliers) = (0.0, 0usize);
             for y in 0..height {
                 for x in 0..width {
-                    let d = nearest(x, y);
-                    // NaN counts as far off.
-                    let d = if d.is_nan() { f64::INFINITY } else { d };
-                    sq += d * d;
-                    outliers += (d > 0.05 * scale) as usize;
+                    let (d2, worst) = nearest(x, y);
+                    sq += d2;
+                    outliers += (worst > 0.05 * scale) as usize;
                 }
             }
-            let rms = (sq / pixels.max(1) as f64).sqrt() / scale;
+            let rms = (sq / reference.len().max(1) as f64).sqrt() / scale;
             let outliers = outliers as f64 / pixels.max(1) as f64;
             let pass = rms <= RMS_TOLERANCE && outliers <= OUTLIER_TOLERANCE;
             let message = if pass {
@@ -147,7 +148,7 @@ pub fn compare(
             let mut wrong = 0usize;
             for y in 0..height {
                 for x in 0..width {
-                    wrong += (nearest(x, y) != 0.0) as usize;
+                    wrong += (nearest(x, y).0 != 0.0) as usize;
                 }
             }
             let outliers = wrong as f64 / pixels.max(1) as f64;
@@ -172,5 +173,47 @@ pub fn compare(
                 message,
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 16x16 picture: left half 0.2, right half 1.0 (an edge between columns 7 and 8).
+    fn halves(edge: usize) -> Vec<f32> {
+        (0..16 * 16)
+            .flat_map(|i| {
+                let v = if i % 16 < edge { 0.2 } else { 1.0 };
+                [v, v, v]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn an_edge_one_pixel_over_passes_but_a_changed_region_fails() {
+        let reference = halves(8);
+        let shifted = compare("shifted", Metric::Radiance, 16, &halves(9), &reference);
+        assert!(shifted.pass && shifted.rms == 0.0, "{shifted:?}");
+        assert!(
+            shifted.rms_plain > 0.1 && shifted.differing > 0.06,
+            "{shifted:?}"
+        );
+        let darker: Vec<f32> = reference.iter().map(|v| v * 0.97).collect();
+        let c = compare("darker", Metric::Radiance, 16, &darker, &reference);
+        assert!(!c.pass && c.rms <= c.rms_plain, "{c:?}");
+        let mut nan = reference.clone();
+        nan[40] = f32::NAN;
+        assert!(!compare("nan", Metric::Radiance, 16, &nan, &reference).pass);
+    }
+
+    #[test]
+    fn ids_must_match_up_to_an_edge() {
+        let reference = halves(8);
+        assert!(compare("shifted", Metric::Ids, 16, &halves(9), &reference).pass);
+        let mut stray = reference.clone();
+        stray[3 * 20..3 * 21].copy_from_slice(&[7.0, 7.0, 7.0]);
+        let c = compare("stray", Metric::Ids, 16, &stray, &reference);
+        assert!(!c.pass && c.outliers > 0.0, "{c:?}");
     }
 }
