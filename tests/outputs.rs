@@ -228,7 +228,7 @@ fn signals_leave_the_old_set_and_no_temporary_files() {
     let out = tmp.path().join("out");
     let first = run(&quick(&out, "150", "40x30"));
     assert!(first.status.success(), "{}", stderr(&first));
-    let before = snapshot(&out);
+    let mut before = snapshot(&out);
     for signal in ["INT", "TERM"] {
         // During the solve: the GPU solver at 4,096 patches takes many seconds here.
         let long = [
@@ -265,6 +265,7 @@ fn signals_leave_the_old_set_and_no_temporary_files() {
             let _ = std::fs::remove_dir_all(&out);
             let o = run(&quick(&out, "150", "40x30"));
             assert!(o.status.success());
+            before = snapshot(&out);
         } else {
             assert_clean_error(
                 &o,
@@ -276,6 +277,20 @@ fn signals_leave_the_old_set_and_no_temporary_files() {
             );
         }
     }
+
+    // SIGKILL cannot be handled: the staging folder stays, the set too; the next run clears it.
+    let long = quick(&out, "150", "2048x2048");
+    let o = interrupt(&long, &out, "KILL", |d| {
+        staging(d).is_some_and(|s| s.join("image.exr").exists())
+    });
+    assert!(!o.status.success());
+    assert!(staging(&out).is_some());
+    for f in SET {
+        assert_eq!(before[f], std::fs::read(out.join(f)).unwrap(), "{f}");
+    }
+    let o = run(&quick(&out, "150", "40x30"));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(names(&out), SET, "the dead run's staging folder is removed");
 }
 
 /// Run `script` (sh) in a new user and mount namespace, where an unprivileged user is root and

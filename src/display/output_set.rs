@@ -24,12 +24,13 @@
 
 use super::output::{fill, io_error, Payload};
 use anyhow::{anyhow, bail, Context, Result};
-use std::fs::File;
-use std::io;
+use std::fs::{File, TryLockError};
+use std::io::{self, Write};
 use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, MutexGuard};
+use std::time::{Duration, Instant};
 
 const STAGING: &str = ".radiosity-staging-";
 const PUBLISHING: &str = ".radiosity-publishing-";
@@ -71,13 +72,32 @@ pub fn is_set_member(name: &str) -> bool {
         )
 }
 
+/// How long to wait for another run's publish. It takes milliseconds; a run stopped (SIGSTOP) in
+/// the middle of one must not hang this one.
+const LOCK_PATIENCE: Duration = Duration::from_secs(60);
+
 /// An exclusive `flock` on a folder, released when the file is dropped (or the process dies).
 fn lock_folder(dir: &Path) -> Result<File> {
     let f = File::open(dir)
         .with_context(|| format!("cannot open the output directory {}", dir.display()))?;
-    f.lock()
-        .with_context(|| format!("cannot lock the output directory {}", dir.display()))?;
-    Ok(f)
+    let start = Instant::now();
+    loop {
+        match f.try_lock() {
+            Ok(()) => return Ok(f),
+            Err(TryLockError::WouldBlock) if start.elapsed() < LOCK_PATIENCE => {
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            Err(TryLockError::WouldBlock) => bail!(
+                "another run has held the output directory {} for {} s (its lock); \
+                 the earlier outputs are kept",
+                dir.display(),
+                LOCK_PATIENCE.as_secs()
+            ),
+            Err(TryLockError::Error(e)) => {
+                bail!("cannot lock the output directory {}: {e}", dir.display())
+            }
+        }
+    }
 }
 
 /// The files of one run, staged in the output folder until [`OutputSet::publish`].
@@ -292,10 +312,20 @@ fn recover(dir: &Path) {
         if staging {
             let _ = std::fs::remove_dir_all(&path);
         } else if let Ok(list) = std::fs::read_to_string(path.join(MANIFEST)) {
-            let names: Vec<String> = list.lines().map(str::to_string).collect();
+            // Only our own names: a planted list must not move anything else (`../x`).
+            let names: Vec<String> = list
+                .lines()
+                .filter(|n| is_set_member(n))
+                .map(str::to_string)
+                .collect();
             let _ = finish(dir, &path, &names);
         }
     }
+}
+
+/// To stderr, if it is still open: `eprintln!` would panic, and the exit must happen.
+fn say(message: std::fmt::Arguments) {
+    let _ = writeln!(io::stderr(), "{message}");
 }
 
 fn signal_name(signal: i32) -> &'static str {
@@ -327,18 +357,18 @@ pub fn exit_on_signals() -> Result<()> {
                 match &*state {
                     State::Staging { dir, staging } => {
                         let _ = std::fs::remove_dir_all(staging);
-                        eprintln!(
+                        say(format_args!(
                             "error: interrupted by {name}; {} keeps its earlier outputs",
                             dir.display()
-                        );
+                        ));
                     }
                     State::Published { dir } => {
-                        eprintln!(
+                        say(format_args!(
                             "error: interrupted by {name} after the outputs were written to {}",
                             dir.display()
-                        );
+                        ));
                     }
-                    State::Idle => eprintln!("error: interrupted by {name}"),
+                    State::Idle => say(format_args!("error: interrupted by {name}")),
                 }
                 // _exit: no atexit handlers, which could run into the GL driver's threads.
                 signal_hook::low_level::exit(1);
@@ -404,7 +434,8 @@ mod tests {
         std::fs::write(dead.join("image.png"), "dead").unwrap();
         let cut = dir.join(format!("{PUBLISHING}cut"));
         std::fs::create_dir(&cut).unwrap();
-        std::fs::write(cut.join(MANIFEST), "image.png\nstats.json\n").unwrap();
+        std::fs::write(cut.join(MANIFEST), "image.png\nstats.json\n../escape\n").unwrap();
+        std::fs::write(cut.join("../escape"), "stays").unwrap();
         std::fs::write(dir.join("image.png"), "cut").unwrap();
         std::fs::write(cut.join("stats.json"), "cut").unwrap();
         let d2 = OutputSet::begin(dir).unwrap();
@@ -413,6 +444,8 @@ mod tests {
             "cut"
         );
         assert!(!dead.exists() && !cut.exists());
+        assert!(dir.join("escape").exists() && !d.path().parent().unwrap().join("escape").exists());
+        std::fs::remove_file(dir.join("escape")).unwrap();
         drop(d2);
         assert_eq!(names(dir), ["image.png", "notes.txt", "stats.json"]);
 
