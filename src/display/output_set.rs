@@ -94,7 +94,13 @@ fn lock_folder(dir: &Path) -> Result<File> {
                 LOCK_PATIENCE.as_secs()
             ),
             Err(TryLockError::Error(e)) => {
-                bail!("cannot lock the output directory {}: {e}", dir.display())
+                // A file system without flock: the run still works, alone.
+                say(format_args!(
+                    "warning: cannot lock the output directory {} ({e}): runs into it at the \
+                     same time are not kept apart",
+                    dir.display()
+                ));
+                return Ok(f);
             }
         }
     }
@@ -130,14 +136,16 @@ impl OutputSet {
                 )
             })?
             .keep();
-        let alive = File::open(&staging).and_then(|f| f.lock().map(|()| f));
-        let alive = match alive {
+        let alive = match File::open(&staging) {
             Ok(f) => f,
             Err(e) => {
                 let _ = std::fs::remove_dir_all(&staging);
-                bail!("cannot lock {}: {e}", staging.display());
+                bail!("cannot open {}: {e}", staging.display());
             }
         };
+        // Never blocks (the folder is new). Where flock fails, other runs' try_lock fails too, so
+        // they leave this folder alone all the same.
+        let _ = alive.lock();
         *state = State::Staging {
             dir: dir.to_path_buf(),
             staging: staging.clone(),
