@@ -171,16 +171,7 @@ impl OutputSet {
         if name.contains('/') || name.starts_with('.') || name.is_empty() {
             bail!("{} is not a plain output file name", target.display());
         }
-        let mut file = {
-            // Under the mutex: the signal thread never removes the folder while a file is being
-            // created in it, and after it has, nothing more is created.
-            let _state = state();
-            File::options()
-                .write(true)
-                .create_new(true)
-                .open(self.staging.join(name))
-                .map_err(|e| io_error(e.kind(), &e.to_string(), &target))?
-        };
+        let mut file = self.create(name, &target)?;
         fill(&mut file, &payload, &target)?;
         self.names
             .lock()
@@ -189,16 +180,24 @@ impl OutputSet {
         Ok(())
     }
 
+    /// Create `name` in the staging folder, exclusively; `target` names it in messages.
+    fn create(&self, name: &str, target: &Path) -> Result<File> {
+        // Under the mutex: the signal thread never removes the folder while a file is being
+        // created in it, and after it has, nothing more is created.
+        let _state = state();
+        File::options()
+            .write(true)
+            .create_new(true)
+            .open(self.staging.join(name))
+            .map_err(|e| io_error(e.kind(), &e.to_string(), target))
+    }
+
     /// Replace the set in the output folder with the staged files.
     pub fn publish(mut self) -> Result<()> {
         let names = std::mem::take(&mut *self.names.lock().unwrap_or_else(|e| e.into_inner()));
         let manifest = names.join("\n") + "\n";
         let manifest_path = self.staging.join(MANIFEST);
-        let mut file = File::options()
-            .write(true)
-            .create_new(true)
-            .open(&manifest_path)
-            .map_err(|e| io_error(e.kind(), &e.to_string(), &manifest_path))?;
+        let mut file = self.create(MANIFEST, &manifest_path)?;
         fill(&mut file, &Payload::Text(manifest), &manifest_path)?;
         sync_folder(&self.staging);
 
