@@ -20,7 +20,9 @@
 //! scene ([`load_scene`]) → patches ([`lay_out`]) → solver ([`solve`], or a
 //! [`Solver`] driven shot by shot) → display ([`render`], [`write_outputs`]).
 
-use crate::display::{self, output, Image};
+use crate::display::output::{self, Payload};
+use crate::display::output_set::OutputSet;
+use crate::display::{self, Image};
 use crate::gl::{limits, GlContext, GlError, GlInfo, LimitError};
 use crate::patches::{LayoutError, PatchLayout, Resolution};
 use crate::scene::{bundled, Camera, Scene, SceneError};
@@ -386,28 +388,43 @@ impl Stats {
     }
 }
 
-/// Write `image.exr` (linear), `image.png` (tone-mapped with `exposure`), `lightmap.exr` (the
-/// solver's radiance atlas) and `stats.json` into `dir`.
+/// Stage `image.exr` (linear), `image.png` (tone-mapped with `exposure`), `lightmap.exr` (the
+/// solver's radiance atlas) and `stats.json` in `set`; [`OutputSet::publish`] puts them in place.
 pub fn write_outputs(
-    dir: &Path,
+    set: &OutputSet,
     image: &Image,
     exposure: f32,
     layout: &PatchLayout,
     solution: &Solution,
     stats: &Stats,
 ) -> anyhow::Result<()> {
-    output::write_exr(
-        &dir.join("image.exr"),
-        image.width,
-        image.height,
-        &image.rgb,
+    let (width, height) = (image.width, image.height);
+    set.write(
+        "image.exr",
+        Payload::Exr {
+            width,
+            height,
+            rgb: &image.rgb,
+        },
     )?;
-    output::write_png(&dir.join("image.png"), image, exposure)?;
-    output::write_atlas_exr(
-        &dir.join("lightmap.exr"),
-        layout.atlas_width,
-        layout.atlas_height,
-        &solution.radiosity,
+    let rgb = output::tone_map(image, exposure);
+    set.write(
+        "image.png",
+        Payload::Png {
+            width,
+            height,
+            rgb: &rgb,
+        },
     )?;
-    output::write_json(&dir.join("stats.json"), stats)
+    let (width, height) = (layout.atlas_width, layout.atlas_height);
+    let rgb = output::atlas_rgb_top_down(width, height, &solution.radiosity);
+    set.write(
+        "lightmap.exr",
+        Payload::Exr {
+            width,
+            height,
+            rgb: &rgb,
+        },
+    )?;
+    set.write("stats.json", Payload::json(stats)?)
 }

@@ -2,6 +2,7 @@
 
 use super::{values, UsageError};
 use crate::display;
+use crate::display::output_set::OutputSet;
 use crate::gl::{BackendChoice, GlContext, GlInfo};
 use crate::pipeline::{self, SettingsError, Stats, Target};
 pub use crate::pipeline::{Mode, SolverKind};
@@ -214,6 +215,8 @@ pub struct SolveOutcome {
 }
 
 pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
+    // First: a signal from here on removes what this run staged and exits 1.
+    display::output_set::exit_on_signals()?;
     check_solve_settings(args.threshold, args.patch_size, args.patches)?;
     let (scene, scene_path) = pipeline::load_scene(args.scene.as_deref())?;
     let scene_name = scene_path.display().to_string();
@@ -227,6 +230,9 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     if args.solver == SolverKind::Cpu && !args.dump_passes.is_empty() {
         bail!("--dump-passes pictures the GPU passes: use it with --solver gpu");
     }
+    // Before the solve: an unwritable folder fails now, not after it. Every file goes in here and
+    // is published together at the end.
+    let set = OutputSet::begin(&out_dir)?;
 
     let layout = pipeline::lay_out(&scene, args.patch_size, args.patches)?;
     // A patch size (from the flag or the scene) can ask for more patches than --patches may.
@@ -291,7 +297,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         let mut solver =
             GpuSolver::new(&ctx, &scene, &layout, options.clone()).map_err(with_flags)?;
         // Both hooks use the dumps, one after the other.
-        let dumps = RefCell::new(display::passes::PassDumps::new(&args.dump_passes, &out_dir));
+        let dumps = RefCell::new(display::passes::PassDumps::new(&args.dump_passes, &set));
         solver.solve_with(
             |s| dumps.borrow_mut().before_shot(s),
             |s, record| -> Result<()> {
@@ -336,12 +342,12 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         threads: (args.solver == SolverKind::Cpu).then(|| rayon_threads(args.threads)),
     };
     let stats = Stats::new(run, &solution, ambient);
-    pipeline::write_outputs(&out_dir, &image, args.exposure, &layout, &solution, &stats)?;
+    pipeline::write_outputs(&set, &image, args.exposure, &layout, &solution, &stats)?;
     if args.plot {
         let title = format!("{} ({:?} mode)", scene.name, args.mode).to_lowercase();
-        let path = out_dir.join("convergence.png");
-        display::plot::write_convergence(&path, &stats.history, args.threshold, &title)?;
+        display::plot::write_convergence(&set, &stats.history, args.threshold, &title)?;
     }
+    set.publish()?;
     eprintln!("wrote {}", out_dir.display());
     Ok(SolveOutcome { stats, out_dir })
 }

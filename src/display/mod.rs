@@ -3,6 +3,7 @@
 
 pub mod ambient;
 pub mod output;
+pub mod output_set;
 pub mod passes;
 pub mod plot;
 mod render;

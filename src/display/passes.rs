@@ -16,13 +16,13 @@
 //! Atlas pictures are enlarged by a whole factor (nearest texel) to at least 512 pixels, with
 //! texels that are no patch in dark blue-grey; row 0 at the top, i.e. the atlas flipped.
 
-use super::output::{srgb_encode, write_atomic, write_json};
+use super::output::{srgb_encode, Payload};
+use super::output_set::OutputSet;
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
 use crate::solver::{GpuSolver, ShotRecord, VisibilityKind};
-use anyhow::{Context, Result};
+use anyhow::Result;
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
 
 /// False colours for polygon IDs: (ID + 1) times an odd constant, modulo 2^24, as R, G, B bytes.
 /// Neighbouring IDs get very different colours, and the map is a bijection of 24-bit numbers,
@@ -49,20 +49,20 @@ const NO_PATCH: [u8; 3] = [28, 30, 44];
 /// Atlas pictures are enlarged to at least this many pixels along their longer side.
 const ATLAS_MIN_SIDE: u32 = 512;
 
-/// Which shots to dump, where, and the atlas kept from before the next one.
-pub struct PassDumps {
+/// Which shots to dump, the output set they join, and the atlas kept from before the next one.
+pub struct PassDumps<'a> {
     shots: BTreeSet<u32>,
-    dir: PathBuf,
+    set: &'a OutputSet,
     before: Option<Vec<f32>>,
-    /// Files written so far.
-    pub written: Vec<PathBuf>,
+    /// Names of the files staged so far.
+    pub written: Vec<String>,
 }
 
-impl PassDumps {
-    pub fn new(shots: &[u32], dir: &Path) -> PassDumps {
+impl<'a> PassDumps<'a> {
+    pub fn new(shots: &[u32], set: &'a OutputSet) -> PassDumps<'a> {
         PassDumps {
             shots: shots.iter().copied().collect(),
-            dir: dir.to_path_buf(),
+            set,
             before: None,
             written: Vec::new(),
         }
@@ -89,7 +89,7 @@ impl PassDumps {
         let Some(before) = self.before.take() else {
             return Ok(());
         };
-        let name = |what: &str| self.dir.join(format!("shot-{:03}-{what}", record.shot));
+        let name = |what: &str| format!("shot-{:03}-{what}", record.shot);
         let (w, h) = (layout.atlas_width, layout.atlas_height);
         let after = solver.radiosity_atlas();
         let delta: Vec<f32> = after
@@ -105,7 +105,7 @@ impl PassDumps {
         let (iw, ih) = (vis.item_buffer.width as u32, vis.item_buffer.height as u32);
         let ids = vis.read_ids();
         let path = name("itembuffer.png");
-        write_rgb(&path, iw, ih, &item_buffer_rgb(&ids, iw, ih))?;
+        write_rgb(self.set, &path, iw, ih, &item_buffer_rgb(&ids, iw, ih))?;
         files.push(path);
         for (what, atlas, exposure) in [
             ("delta.png", &delta, delta_exposure),
@@ -114,7 +114,7 @@ impl PassDumps {
         ] {
             let (rgb, pw, ph) = atlas_rgb(atlas, w, h, exposure);
             let path = name(what);
-            write_rgb(&path, pw, ph, &rgb)?;
+            write_rgb(self.set, &path, pw, ph, &rgb)?;
             files.push(path);
         }
 
@@ -150,8 +150,8 @@ impl PassDumps {
             "atlas_exposure": 1.0,
             "item_buffer_legend": legend,
         });
-        let path = self.dir.join(format!("shot-{:03}.json", record.shot));
-        write_json(&path, &info)?;
+        let path = format!("shot-{:03}.json", record.shot);
+        self.set.write(&path, Payload::json(&info)?)?;
         files.push(path);
         self.written.extend(files);
         Ok(())
@@ -210,13 +210,8 @@ pub fn atlas_rgb(rgba: &[f32], width: u32, height: u32, exposure: f32) -> (Vec<u
     (rgb, pw, ph)
 }
 
-fn write_rgb(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
-    write_atomic(path, |tmp| {
-        let img = image::RgbImage::from_raw(width, height, rgb.to_vec())
-            .context("image size does not match its data")?;
-        img.save(tmp).context("PNG encoder failed")?;
-        Ok(())
-    })
+fn write_rgb(set: &OutputSet, name: &str, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
+    set.write(name, Payload::Png { width, height, rgb })
 }
 
 #[cfg(test)]

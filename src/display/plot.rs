@@ -3,11 +3,11 @@
 //! Drawn with plotters into a pixel buffer; text uses a font compiled into the binary (Ubuntu
 //! Light, from egui's fonts), so no system font library is needed.
 
-use super::output::write_atomic;
+use super::output::Payload;
+use super::output_set::OutputSet;
 use crate::solver::ShotRecord;
-use anyhow::{anyhow, Context, Result};
+use anyhow::{anyhow, Result};
 use plotters::prelude::*;
-use std::path::Path;
 use std::sync::Once;
 
 const SIZE: (u32, u32) = (1200, 480);
@@ -24,21 +24,24 @@ fn register_font() {
     });
 }
 
-/// Write the two convergence plots side by side as a PNG. `title` names the run (scene, mode).
+/// Stage `convergence.png`: the two convergence plots side by side. `title` names the run
+/// (scene, mode).
 pub fn write_convergence(
-    path: &Path,
+    set: &OutputSet,
     history: &[ShotRecord],
     threshold: f32,
     title: &str,
 ) -> Result<()> {
     let rgb = draw_convergence(history, threshold, title)?;
-    write_atomic(path, |tmp| {
-        image::RgbImage::from_raw(SIZE.0, SIZE.1, rgb)
-            .context("image size does not match its data")?
-            .save(tmp)
-            .context("PNG encoder failed")?;
-        Ok(())
-    })
+    let (width, height) = SIZE;
+    set.write(
+        "convergence.png",
+        Payload::Png {
+            width,
+            height,
+            rgb: &rgb,
+        },
+    )
 }
 
 /// The plots as RGB pixels, rows top to bottom, `SIZE`.

@@ -80,7 +80,5 @@ pub fn junit(runs: &[DriverRun], cases: &[&Case]) -> Result<String> {
 
 /// Write `text` to `path` (through a temporary file, so a reader never sees half of it).
 pub fn write(path: &Path, text: &str) -> Result<()> {
-    crate::display::output::write_atomic(path, |tmp| {
-        std::fs::write(tmp, text).with_context(|| format!("cannot write {}", tmp.display()))
-    })
+    crate::display::output::write_atomic(path, crate::display::output::Payload::Text(text.into()))
 }

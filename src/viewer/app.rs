@@ -10,7 +10,7 @@ use super::overlays::{Insets, OverlaySet};
 use super::panel::{self, Actions, Controls, Readout};
 use super::session::Session;
 use super::{ViewMode, ViewOptions};
-use crate::display::output::write_atomic;
+use crate::display::output::{write_atomic, Payload};
 use crate::display::Viewport;
 use crate::gl::window::GlWindow;
 use crate::gl::GlContext;
@@ -449,11 +449,12 @@ fn write_png(path: &Path, width: u32, height: u32, rgb: Vec<u8>) -> Result<()> {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("cannot create the directory {}", dir.display()))?;
     }
-    write_atomic(path, |tmp| {
-        image::RgbImage::from_raw(width, height, rgb)
-            .context("image size does not match its data")?
-            .save(tmp)
-            .context("PNG encoder failed")?;
-        Ok(())
-    })
+    write_atomic(
+        path,
+        Payload::Png {
+            width,
+            height,
+            rgb: &rgb,
+        },
+    )
 }

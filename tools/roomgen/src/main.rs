@@ -3,7 +3,7 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Parser;
-use gpu_radiosity::display::output::write_atomic;
+use gpu_radiosity::display::output::{write_atomic, Payload};
 use gpu_radiosity::patches::{PatchLayout, Resolution};
 use gpu_radiosity::scene::load_obj;
 use roomgen::{generate, Room};
@@ -72,9 +72,7 @@ fn run(args: &Args) -> Result<()> {
 
     let generated = generate(room, &mtl_name);
     for (path, text) in [(&mtl_path, &generated.mtl), (&obj_path, &generated.obj)] {
-        write_atomic(path, |tmp| {
-            std::fs::write(tmp, text).with_context(|| format!("cannot write {}", tmp.display()))
-        })?;
+        write_atomic(path, Payload::Text(text.to_string()))?;
     }
 
     // Count what a solve would load, from the files just written.
