@@ -6,6 +6,8 @@
 //! llvmpipe, softpipe and OSMesa must be available (the CI installs them); zink is required
 //! where lavapipe is installed (mesa-vulkan-drivers) and must be reported unavailable otherwise.
 
+mod common;
+
 use gpu_radiosity::golden::drivers::Driver;
 use std::path::Path;
 use std::process::{Command, Output};
@@ -147,6 +149,50 @@ fn every_driver_passes_and_the_reports_agree() {
         if required.contains(&name) {
             assert_eq!(d["status"], "ran", "{d}");
             assert!(!d["renderer"].as_str().unwrap().is_empty());
+        }
+        // The figures README.md and docs/drivers.md quote (box-paper is the worst case of all
+        // ten, and one of these).
+        let worst = |field: &str| {
+            d["outcomes"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|o| o[field].as_f64().unwrap())
+                .fold(0.0, f64::max)
+        };
+        match name {
+            "llvmpipe" | "osmesa" => {
+                assert_eq!(worst("differing"), 0.0, "{name} not bit-identical")
+            }
+            "softpipe" => {
+                common::assert_quoted(
+                    "softpipe's worst RMS (README)",
+                    100.0 * worst("rms"),
+                    "0.06",
+                );
+                common::assert_quoted(
+                    "softpipe's worst RMS (drivers.md)",
+                    100.0 * worst("rms"),
+                    "0.058",
+                );
+                common::assert_quoted(
+                    "softpipe's plain RMS (drivers.md)",
+                    100.0 * worst("rms_plain"),
+                    "27.4",
+                );
+            }
+            "zink" if lavapipe_installed() => {
+                common::assert_quoted("zink's worst RMS (README)", 100.0 * worst("rms"), "0.03");
+                common::assert_quoted(
+                    "zink's worst RMS (drivers.md)",
+                    100.0 * worst("rms"),
+                    "0.024",
+                );
+            }
+            _ => {}
+        }
+        for o in d["outcomes"].as_array().unwrap() {
+            assert_eq!(o["outliers"].as_f64().unwrap(), 0.0, "{name}: {o}");
         }
     }
 }
