@@ -8,7 +8,7 @@ mod triangulate;
 
 pub use obj::{
     allow_outside_materials, load_obj, shown, shown_path, SceneError, MAX_KE, MAX_MTL_BYTES,
-    MAX_OBJ_BYTES,
+    MAX_OBJ_BYTES, MAX_SCENE_SIZE, MIN_SCENE_SIZE,
 };
 pub use triangulate::triangulate;
 
