@@ -85,14 +85,12 @@ pub enum SettingsError {
 /// The light reached nothing that reflects it: a scene error (most often emitters wound
 /// backwards), not a black picture to write.
 #[derive(Debug, thiserror::Error)]
-#[error(
-    "the light reaches no surface that reflects it: the emitters ({lights}) face away from \
-     everything, or nothing in front of them has a reflectance (Kd) above 0. Emitters shine from \
-     their front face: counter-clockwise vertex order seen from the front"
-)]
+#[error("the light reaches no surface that reflects it: {cause}")]
 pub struct LightReachesNothing {
     /// The emitting objects, comma-separated.
     pub lights: String,
+    /// Why, as far as the geometry tells.
+    pub cause: String,
 }
 
 /// Check the stopping rule's threshold (0 < t < 1) and the patch resolution the caller asks for.
@@ -236,9 +234,32 @@ impl Solution {
             .filter(|p| scene.material(p).is_emitter())
             .map(|p| p.object.as_str())
             .collect();
-        Err(LightReachesNothing {
-            lights: lights.join(", "),
-        })
+        let lights = lights.join(", ");
+        // Something that reflects, with a corner in front of an emitter: the light does face it,
+        // and the receivers' patches were too coarse to catch any (a face smaller than a patch
+        // has none). Otherwise the emitters face away, or nothing reflects.
+        let slack = scene.plane_slack();
+        let faced = scene.polygons.iter().any(|e| {
+            scene.material(e).is_emitter()
+                && scene.polygons.iter().any(|r| {
+                    scene.material(r).kd.max_element() > 0.0
+                        && r.vertices.iter().any(|&v| e.plane().distance(v) > slack)
+                })
+        });
+        let cause = if faced {
+            format!(
+                "surfaces with a reflectance lie in front of the emitters ({lights}) but none of \
+                 their patches received light: the patches are too coarse for those surfaces \
+                 (a face smaller than a patch has none); use a smaller patch size or more patches"
+            )
+        } else {
+            format!(
+                "the emitters ({lights}) face away from everything, or nothing in front of them \
+                 has a reflectance (Kd) above 0. Emitters shine from their front face: \
+                 counter-clockwise vertex order seen from the front"
+            )
+        };
+        Err(LightReachesNothing { lights, cause })
     }
 
     /// The atlas to display: the radiance, with Cohen et al.'s (1988) ambient term added if

@@ -8,6 +8,12 @@
 //! scene's own `# patch-size`" (as `radiosity solve` does without `--patches`) when the OBJ has
 //! one. Without control bytes, n comes from a hash of the input.
 //!
+//! The MTL path (issue 20): `load_obj` hands tobj only what its own MTL parser checked, follows
+//! `mtllib` lines however they are spaced (tab, indent) and refuses libraries outside the scene's
+//! folder and files that are not regular; the dictionary has those spellings (`mtllib\t`,
+//! `../`, `/dev/zero`) and `check_scene` asserts every material's Kd in [0, 1] and Ke in
+//! [0, MAX_KE], whatever the MTL bytes were.
+//!
 //! Inputs that hit a finding that is already reported and awaiting a fix in src/ (see
 //! `known_finding`) are skipped, so that a run goes on to find new things; set
 //! `SCENE_TO_ATLAS_ALL=1` to fuzz them too (the lead's check after fixing).
@@ -199,6 +205,31 @@ fn check_scene(scene: &Scene) {
             m.kd.is_finite() && m.ke.is_finite(),
             "material {} is not finite",
             m.name
+        );
+        // What the MTL check promises (one parser: what tobj read is what was checked).
+        assert!(
+            m.kd.min_element() >= 0.0 && m.kd.max_element() <= 1.0,
+            "material {}: Kd {} outside [0, 1]",
+            m.name,
+            m.kd
+        );
+        assert!(
+            m.ke.min_element() >= 0.0 && m.ke.max_element() <= gpu_radiosity::scene::MAX_KE,
+            "material {}: Ke {} outside [0, MAX_KE]",
+            m.name,
+            m.ke
+        );
+        assert!(
+            !m.name.chars().any(char::is_control),
+            "material name {:?} not escaped",
+            m.name
+        );
+    }
+    for p in &scene.polygons {
+        assert!(
+            !p.object.chars().any(char::is_control),
+            "object name {:?} not escaped",
+            p.object
         );
     }
 }

@@ -21,6 +21,10 @@ pub use solve::{run_solve, SolveArgs};
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    /// Let a scene's `mtllib` lines name files outside the scene's folder (absolute paths,
+    /// `../`); without it they are refused.
+    #[arg(long, global = true)]
+    pub allow_outside_materials: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -46,6 +50,7 @@ pub enum Command {
 pub struct UsageError(pub String);
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
+    crate::scene::allow_outside_materials(cli.allow_outside_materials);
     match cli.command {
         Command::Solve(args) => run_solve(&args).map(|_| ()),
         Command::Validate(args) => validate::run_validate(&args),

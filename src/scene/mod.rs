@@ -3,9 +3,13 @@
 
 pub mod bundled;
 mod obj;
+mod overlap;
 mod triangulate;
 
-pub use obj::{load_obj, SceneError};
+pub use obj::{
+    allow_outside_materials, load_obj, shown, shown_path, SceneError, MAX_KE, MAX_MTL_BYTES,
+    MAX_OBJ_BYTES, MAX_SCENE_SIZE, MIN_SCENE_SIZE,
+};
 pub use triangulate::triangulate;
 
 use crate::geometry::{bounds, mean, sphere_around, Plane};

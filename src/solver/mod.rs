@@ -60,6 +60,20 @@ pub enum SolveError {
         threads: usize,
         source: rayon::ThreadPoolBuildError,
     },
+    #[error(
+        "energy balance broken at shot {shot}: {shooter} shot {shot_power:.4e} and the receivers \
+         reflected {reflected:.4e}, more than the {bound:.4e} the largest reflectance allows. \
+         Receivers that gained most: {receivers}. Overlapping faces in one plane (a face given \
+         twice) or intersecting faces do this; remove the duplicates"
+    )]
+    EnergyCreated {
+        shot: u32,
+        shooter: String,
+        shot_power: f64,
+        reflected: f64,
+        bound: f64,
+        receivers: String,
+    },
     #[error("an atlas of {got} floats was given where the layout has {expected}")]
     AtlasSize { expected: usize, got: usize },
 }
