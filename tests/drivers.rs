@@ -182,7 +182,7 @@ fn every_driver_passes_and_the_reports_agree() {
                 );
             }
             "zink" if lavapipe_installed() => {
-                common::assert_quoted("zink's worst RMS (README)", 100.0 * worst("rms"), "0.03");
+                common::assert_quoted("zink's worst RMS (README)", 100.0 * worst("rms"), "0.02");
                 common::assert_quoted(
                     "zink's worst RMS (drivers.md)",
                     100.0 * worst("rms"),
