@@ -278,8 +278,12 @@ fn bad_input_gives_clear_errors_and_damages_nothing() {
             );
         }
     }
-    // README: "`tests/bad_input.rs` tries 23 such cases", "23 kinds of bad input".
-    assert_eq!(cases.len(), 23, "README.md quotes the number of cases");
+    // docs/testing.md: "23 kinds of bad input".
+    assert_eq!(
+        cases.len(),
+        23,
+        "docs/testing.md quotes the number of cases"
+    );
     let after: Vec<Vec<u8>> = files
         .iter()
         .map(|f| std::fs::read(out.join(f)).unwrap())
