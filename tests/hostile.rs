@@ -181,6 +181,31 @@ fn duplicate_faces_create_no_energy() {
     check(cpu.step().unwrap_err());
 }
 
+/// Class 4: the paper's point form factor is unbounded near the shooter. In the simple room in
+/// the paper's mode a sofa 2 cm from a wall receives more than the wall shot; without the check
+/// the solve ran 10,000 shots to a NaN unshot fraction. Both solvers stop, naming the factor.
+#[test]
+fn the_point_form_factor_stops_where_it_creates_energy() {
+    let scene = load("simple");
+    let layout = PatchLayout::new(&scene, Resolution::Patches(14_445));
+    let ctx = context();
+    let check = |e: SolveError| {
+        let m = e.to_string();
+        assert!(matches!(e, SolveError::EnergyCreated { .. }), "{m}");
+        assert!(
+            m.contains("point form factor") && m.contains("--form-factor polygon"),
+            "{m}"
+        );
+    };
+    let options = SolveOptions::paper();
+    let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
+    check(gpu.solve(|_| {}).unwrap_err());
+    assert!(gpu.shots() < 100, "stopped after {} shots", gpu.shots());
+    let mut cpu = CpuSolver::new(&scene, &layout, options, 0).unwrap();
+    check(cpu.solve(|_| {}).unwrap_err());
+    assert!(cpu.shots() < 100, "stopped after {} shots", cpu.shots());
+}
+
 /// Class 4: a deeply non-planar 10,000-corner face (a zigzag crown) is split into triangles
 /// that do not fold over each other: no shot reflects more than Kd times its power.
 #[test]

@@ -63,10 +63,11 @@ pub enum SolveError {
     #[error(
         "energy balance broken at shot {shot}: {shooter} shot {shot_power:.4e} and the receivers \
          reflected {reflected:.4e}, more than the {bound:.4e} the largest reflectance allows. \
-         Receivers that gained most: {receivers}. Overlapping faces in one plane (a face given \
-         twice) or intersecting faces do this; remove the duplicates"
+         Receivers that gained most: {receivers}. {cause}"
     )]
     EnergyCreated {
+        /// What does this, for the settings in use.
+        cause: &'static str,
         shot: u32,
         shooter: String,
         shot_power: f64,

@@ -56,8 +56,6 @@ pub struct Solver<'a, B: Backend> {
     /// The polygons' lightmap rectangles in the backend's layout; the polygons a shot changed.
     texels: Vec<[u32; 4]>,
     changed: Vec<usize>,
-    /// Whether a point-form-factor shot that broke the energy balance was reported.
-    point_excess_reported: std::cell::Cell<bool>,
 }
 
 /// Pass names, as `PassTimes` keys them.
@@ -84,7 +82,6 @@ impl<'a, B: Backend> Solver<'a, B> {
             backend,
             ledger,
             changed: Vec::new(),
-            point_excess_reported: std::cell::Cell::new(false),
         })
     }
 
@@ -171,23 +168,6 @@ impl<'a, B: Backend> Solver<'a, B> {
         if record.reflected_power <= bound + slack {
             return Ok(());
         }
-        // The paper's point form factor has no bound near the shooter (a sofa 2 cm from a wall
-        // received 2.8x what the wall shot in the simple room): in the paper's mode the excess
-        // is the algorithm's own, so it is reported, once, and the solve goes on. The polygon
-        // form factor is bounded, so there an excess is a scene or solver error.
-        if self.options.form_factor == super::FormFactorKind::Point {
-            if !self.point_excess_reported.replace(true) {
-                eprintln!(
-                    "warning: shot {} reflected {:.3}x the most it could ({}): the point form \
-                     factor (--mode paper) overestimates receivers close to the shooter; the \
-                     polygon form factor (--mode accurate) keeps the energy balance",
-                    record.shot,
-                    record.reflected_power / bound,
-                    crate::scene::shown(&self.scene.polygons[record.shooter].object)
-                );
-            }
-            return Ok(());
-        }
         let totals = self.ledger.totals();
         let mut gains: Vec<(f64, usize)> = (0..self.scene.polygons.len())
             .filter(|&p| p != record.shooter)
@@ -206,7 +186,20 @@ impl<'a, B: Backend> Solver<'a, B> {
             .take(5)
             .map(|&(g, p)| format!("{} (+{g:.3e})", name(p)))
             .collect();
+        // The paper's point form factor has no bound near the shooter (in the simple room a sofa
+        // 2 cm from a wall receives 2.8x what the wall shot, and the solve runs away to NaN),
+        // so in the paper's mode the excess is the algorithm's own; still the answer would be
+        // wrong, so it stops too, and says so.
+        let cause = if self.options.form_factor == super::FormFactorKind::Point {
+            "The point form factor (--form-factor point, as in --mode paper) has no bound for \
+             receivers close to the shooter; the polygon form factor (--form-factor polygon, \
+             --mode accurate) keeps the balance"
+        } else {
+            "Overlapping faces in one plane (a face given twice) or intersecting faces do this; \
+             remove the duplicates"
+        };
         Err(SolveError::EnergyCreated {
+            cause,
             shot: record.shot,
             shooter: name(record.shooter),
             shot_power: record.shot_power,
