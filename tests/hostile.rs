@@ -182,8 +182,9 @@ fn duplicate_faces_create_no_energy() {
 }
 
 /// Class 4: the paper's point form factor is unbounded near the shooter. In the simple room in
-/// the paper's mode a sofa 2 cm from a wall receives more than the wall shot; without the check
-/// the solve ran 10,000 shots to a NaN unshot fraction. Both solvers stop, naming the factor.
+/// the paper's mode a sofa 2 cm from a wall receives more than the wall shot, and the unshot power
+/// passes the emitted power at shot 474; without the check the solve ran 10,000 shots to a NaN
+/// unshot fraction and exited 0. Both solvers stop there, naming the factor.
 #[test]
 fn the_point_form_factor_stops_where_it_creates_energy() {
     let scene = load("simple");
@@ -200,10 +201,10 @@ fn the_point_form_factor_stops_where_it_creates_energy() {
     let options = SolveOptions::paper();
     let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
     check(gpu.solve(|_| {}).unwrap_err());
-    assert!(gpu.shots() < 100, "stopped after {} shots", gpu.shots());
+    assert!(gpu.shots() < 1000, "stopped after {} shots", gpu.shots());
     let mut cpu = CpuSolver::new(&scene, &layout, options, 0).unwrap();
     check(cpu.solve(|_| {}).unwrap_err());
-    assert!(cpu.shots() < 100, "stopped after {} shots", cpu.shots());
+    assert!(cpu.shots() < 1000, "stopped after {} shots", cpu.shots());
 }
 
 /// Class 4: a deeply non-planar 10,000-corner face (a zigzag crown) is split into triangles

@@ -61,14 +61,16 @@ pub enum SolveError {
         source: rayon::ThreadPoolBuildError,
     },
     #[error(
-        "energy balance broken at shot {shot}: {shooter} shot {shot_power:.4e} and the receivers \
-         reflected {reflected:.4e}, more than the {bound:.4e} the largest reflectance allows. \
-         Receivers that gained most: {receivers}. {cause}"
+        "energy created at shot {shot}: the unshot power is now {unshot:.3}x the emitted power \
+         ({shooter} shot {shot_power:.4e} and the receivers reflected {reflected:.4e}, where the \
+         largest reflectance allows {bound:.4e}). Receivers that gained most: {receivers}. {cause}"
     )]
     EnergyCreated {
         /// What does this, for the settings in use.
         cause: &'static str,
         shot: u32,
+        /// Unshot power over emitted power after the shot.
+        unshot: f64,
         shooter: String,
         shot_power: f64,
         reflected: f64,
