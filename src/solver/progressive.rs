@@ -174,8 +174,8 @@ impl<'a, B: Backend> Solver<'a, B> {
         // Float noise of the f32 atlas sums; a few 1e-3 also covers the hemicube's per-pixel
         // delta form factors, which add up to 1 only within their discretisation.
         let slack = 5e-3 * bound + 1e-9 * self.ledger.emitted_power();
-        let over = !(record.reflected_power <= bound + slack);
-        let runaway = !(record.unshot_fraction <= 1.0 + 5e-3);
+        let over = record.reflected_power > bound + slack || record.reflected_power.is_nan();
+        let runaway = record.unshot_fraction > 1.0 + 5e-3 || !record.unshot_fraction.is_finite();
         if !runaway {
             if over && !self.excess_reported.replace(true) {
                 eprintln!(
