@@ -61,7 +61,8 @@ pub enum SolveError {
         source: rayon::ThreadPoolBuildError,
     },
     #[error(
-        "energy created at shot {shot}: the unshot power is now {unshot:.3}x the emitted power \
+        "energy created at shot {shot}: the unshot power is now {unshot:.3}x the emitted power (or \
+         the loaded one) \
          ({shooter} shot {shot_power:.4e} and the receivers reflected {reflected:.4e}, where the \
          largest reflectance allows {bound:.4e}). Receivers that gained most: {receivers}. {cause}"
     )]
@@ -69,7 +70,7 @@ pub enum SolveError {
         /// What does this, for the settings in use.
         cause: &'static str,
         shot: u32,
-        /// Unshot power over emitted power after the shot.
+        /// Unshot power after the shot over the emitted power (or over the loaded unshot power).
         unshot: f64,
         shooter: String,
         shot_power: f64,

@@ -58,6 +58,9 @@ pub struct Solver<'a, B: Backend> {
     changed: Vec<usize>,
     /// Whether a shot beyond the balance's bound was reported (once a solve).
     excess_reported: std::cell::Cell<bool>,
+    /// The unshot power the solve started from (the emitted power, or what `load_atlases`
+    /// loaded): a valid solve never goes above it.
+    unshot_ceiling: f64,
 }
 
 /// Pass names, as `PassTimes` keys them.
@@ -85,6 +88,7 @@ impl<'a, B: Backend> Solver<'a, B> {
             ledger,
             changed: Vec::new(),
             excess_reported: std::cell::Cell::new(false),
+            unshot_ceiling: 0.0,
         })
     }
 
@@ -161,10 +165,10 @@ impl<'a, B: Backend> Solver<'a, B> {
     /// lamp base on a cabinet) overestimates what a coarse patch receives. Whole polygons shooting
     /// in the Table 1 rooms do that on a few shots (up to 1.5x in the simple room, 2.5x in the
     /// complex one) and still converge, so such a shot is reported once as a warning. Energy is
-    /// created at the scale of the scene when the unshot power passes the emitted power (or stops
-    /// being a number): overlapping receivers, folded faces, or the point form factor running
-    /// away. Going on would make every later shot and the picture wrong, so the solve stops there
-    /// and names the polygons.
+    /// created at the scale of the scene when the unshot power passes the emitted power (or what
+    /// `load_atlases` started from), or stops being a number: overlapping receivers, folded
+    /// faces, or the point form factor running away. Going on would make every later shot and the
+    /// picture wrong, so the solve stops there and names the polygons.
     fn check_balance(
         &self,
         record: &ShotRecord,
@@ -175,7 +179,9 @@ impl<'a, B: Backend> Solver<'a, B> {
         // delta form factors, which add up to 1 only within their discretisation.
         let slack = 5e-3 * bound + 1e-9 * self.ledger.emitted_power();
         let over = record.reflected_power > bound + slack || record.reflected_power.is_nan();
-        let runaway = record.unshot_fraction > 1.0 + 5e-3 || !record.unshot_fraction.is_finite();
+        let ceiling = self.unshot_ceiling.max(self.ledger.emitted_power());
+        let growth = self.ledger.unshot_power() / ceiling;
+        let runaway = growth > 1.0 + 5e-3 || !growth.is_finite();
         if !runaway {
             if over && !self.excess_reported.replace(true) {
                 eprintln!(
@@ -222,7 +228,7 @@ impl<'a, B: Backend> Solver<'a, B> {
         Err(SolveError::EnergyCreated {
             cause,
             shot: record.shot,
-            unshot: record.unshot_fraction,
+            unshot: growth,
             shooter: name(record.shooter),
             shot_power: record.shot_power,
             reflected: record.reflected_power,
@@ -376,6 +382,7 @@ impl<'a, B: Backend> Solver<'a, B> {
         self.backend.load(&r, &u)?;
         self.backend.read_unshot(&mut self.changed)?;
         self.ledger.retotal(self.backend.unshot());
+        self.unshot_ceiling = self.ledger.unshot_power().max(self.ledger.emitted_power());
         Ok(())
     }
 
