@@ -4,7 +4,7 @@
 //! software drivers, each in a child process (`golden::drivers`); `--junit` and `--json` write
 //! the results for CI systems.
 
-use crate::gl::{BackendChoice, GlContext};
+use crate::gl::{BackendChoice, BackendKind, GlContext};
 use crate::golden::drivers::{self, ChildArgs, Driver, DriverRun, Status};
 use crate::golden::{self, report, References};
 use anyhow::{bail, Context, Result};
@@ -128,7 +128,7 @@ fn run_here(args: &CheckArgs, cases: &[&golden::Case]) -> Result<DriverRun> {
         .into_iter()
         .find(|d| {
             d.recognises(&ctx.info.renderer)
-                && (ctx.info.backend.name() == "osmesa") == (*d == Driver::Osmesa)
+                && (ctx.info.backend == BackendKind::Osmesa) == (*d == Driver::Osmesa)
         })
         .unwrap_or(Driver::Llvmpipe);
     let mut run = DriverRun::new(driver);

@@ -21,7 +21,7 @@
 use super::Outcome;
 use crate::gl::BackendChoice;
 use anyhow::{Context, Result};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -79,13 +79,28 @@ impl Driver {
         }
     }
 
+    /// Make `command` (a `radiosity` subcommand that takes `--backend`) run on this driver: its
+    /// backend, and its environment in place of any inherited driver-selecting variable.
+    pub fn select(self, command: &mut Command) -> &mut Command {
+        for var in SELECTING {
+            command.env_remove(var);
+        }
+        let backend = match self.backend() {
+            BackendChoice::Osmesa => "osmesa",
+            _ => "egl",
+        };
+        command
+            .envs(self.environment().iter().copied())
+            .arg("--backend")
+            .arg(backend)
+    }
+
     /// Whether a context whose GL_RENDERER is `renderer` is this driver.
     pub fn recognises(self, renderer: &str) -> bool {
-        let zink = renderer.starts_with("zink");
         match self {
             Driver::Llvmpipe | Driver::Osmesa => renderer.starts_with("llvmpipe"),
             Driver::Softpipe => renderer.starts_with("softpipe"),
-            Driver::Zink => zink,
+            Driver::Zink => renderer.starts_with("zink"),
         }
     }
 }
@@ -185,11 +200,6 @@ pub fn run(driver: Driver, args: &ChildArgs) -> Result<DriverRun> {
     let mut command = Command::new(args.exe);
     command
         .arg("check")
-        .arg("--backend")
-        .arg(match driver.backend() {
-            BackendChoice::Osmesa => "osmesa",
-            _ => "egl",
-        })
         .arg("--as-driver")
         .arg(driver.name())
         .arg("--report")
@@ -202,11 +212,8 @@ pub fn run(driver: Driver, args: &ChildArgs) -> Result<DriverRun> {
     if !args.cases.is_empty() {
         command.arg("--cases").arg(args.cases.join(","));
     }
-    for var in SELECTING {
-        command.env_remove(var);
-    }
-    command
-        .envs(driver.environment().iter().copied())
+    driver
+        .select(&mut command)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped());
@@ -290,7 +297,7 @@ fn last_lines(stderr: &str) -> String {
 }
 
 /// Where `--report` writes, for a child.
-pub fn write_report(path: &PathBuf, run: &DriverRun) -> Result<()> {
+pub fn write_report(path: &Path, run: &DriverRun) -> Result<()> {
     let text = serde_json::to_vec_pretty(run)?;
     std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
 }
