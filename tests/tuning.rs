@@ -33,7 +33,7 @@ fn atlases_come_back_in_the_callers_layout() {
     let dense = layout.without_gutters();
     assert!(dense.atlas_width * dense.atlas_height < layout.atlas_width * layout.atlas_height);
     assert_eq!(dense.patch_count(), layout.patch_count());
-    let ctx = context();
+    let (_one_at_a_time, ctx) = serial_context();
     let mut solver = GpuSolver::new(
         &ctx,
         &scene,
@@ -261,7 +261,7 @@ fn on_both_rooms(
             .patch_size
             .map_or(Resolution::Patches(4096), Resolution::PatchSize);
         let layout = PatchLayout::new(&scene, resolution);
-        let ctx = context();
+        let (_one_at_a_time, ctx) = serial_context();
         let mut tweaked = options.clone();
         tweak(&mut tweaked.tuning);
         let a = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();

@@ -8,18 +8,6 @@ use gpu_radiosity::patches::{PatchLayout, Resolution};
 use gpu_radiosity::solver::{GpuSolver, SolveOptions};
 use gpu_radiosity::validate::{self, Check};
 
-/// A GL context for one test, taken while holding a lock that keeps this file's tests from
-/// running at the same time: this binary has died with SIGSEGV while its tests ran in parallel,
-/// each with its own EGL context on llvmpipe (docs/perf-log.md); the cause is not found yet.
-fn serial_context() -> (
-    std::sync::MutexGuard<'static, ()>,
-    gpu_radiosity::gl::GlContext,
-) {
-    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    let guard = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-    (guard, context())
-}
-
 fn require(checks: &[Check]) {
     print!("{}", validate::table(checks));
     for c in checks {
