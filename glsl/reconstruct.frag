@@ -5,7 +5,8 @@
 // the patch's current radiance and unshot radiance are read from the lightmap textures and
 // old + ΔL is written to the two renderbuffer attachments; the host then copies them back into
 // the textures with glCopyTexSubImage2D, ready for the next shot. The shooter's own texels get
-// unshot radiance zero ("the shooter's lightmap energy is cleared").
+// unshot radiance zero ("the shooter's lightmap energy is cleared"), or, when overshooting
+// (beyond the paper), ShooterRemainder.
 
 uniform sampler2D PatchPosition;   // per patch: world position, polygon ID + 1 (0: no patch)
 uniform sampler2D PatchNormal;
@@ -13,6 +14,8 @@ uniform sampler2D PatchReflectance;
 uniform sampler2D LightmapRadiosity; // the lightmaps as the last glCopyTexSubImage2D left them
 uniform sampler2D LightmapUnshot;
 uniform ivec4 ShooterTexels;       // [x0, y0, x1, y1): the texels that shoot now (unshot -> 0)
+uniform vec3 ShooterRemainder;     // their patches' unshot radiance after the shot: 0, or minus
+                                   // the overshoot
 
 // This fragment's patch, read from the atlas textures (see patchdata.frag) at the start of main.
 vec3 RecvPos = vec3(0.0);
@@ -21,6 +24,8 @@ vec3 RecvColor = vec3(0.0);
 float RecvId = -1.0;
 
 uniform sampler2D HemiItemBuffer;  // visibility pass result (RGBA8 IDs)
+uniform int HemiRes;               // this shot's resolution: the item buffer's lower-left
+                                   // (5 x) HemiRes x HemiRes pixels
 uniform mat4 ShooterView;
 uniform vec3 ShootPos;
 uniform vec3 ShootNormal;
@@ -47,7 +52,7 @@ const float pi = 3.1415926535897932;
 // The item-buffer texel the direction d (shooter eye space, d.z < 0) lands in.
 ivec2 item_texel(vec3 d)
 {
-    ivec2 size = textureSize(HemiItemBuffer, 0);
+    ivec2 size = ivec2(HemiRes);
     if (HemiCube == 0) {
         // The paper: project onto the hemisphere, flatten onto its base disk.
         vec2 uv = normalize(d).xy * 0.5 + 0.5;
@@ -67,7 +72,7 @@ ivec2 item_texel(vec3 d)
     float sy = side_y ? sign(d.y) : 1.0;
     vec3 f = front ? vec3(d.x, d.y, -d.z)
                    : side_x ? vec3(sx * d.z, d.y, sx * d.x) : vec3(sy * d.x, d.z, sy * d.y);
-    int r = size.y;
+    int r = HemiRes;
     // Inside this face's own pixels: at u = 1 the nearest pixel would be the next face's first.
     ivec2 t = clamp(ivec2(((f.xy / f.z) * 0.5 + 0.5) * float(r)), ivec2(0), ivec2(r - 1));
     return ivec2(int(face) * r + t.x, t.y);
@@ -236,6 +241,7 @@ void main()
     vec4 radiosity = texelFetch(LightmapRadiosity, texel, 0);
     vec4 unshot = texelFetch(LightmapUnshot, texel, 0);
     NewRadiosity = vec4(radiosity.rgb + delta, radiosity.a);
-    NewUnshot = vec4(shooting ? vec3(0.0) : unshot.rgb + delta, unshot.a);
+    vec3 left = position.w != 0.0 ? ShooterRemainder : vec3(0.0);
+    NewUnshot = vec4(shooting ? left : unshot.rgb + delta, unshot.a);
 #endif
 }

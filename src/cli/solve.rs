@@ -97,6 +97,22 @@ pub struct SolveArgs {
     /// Visibility pass: hemisphere (paper's hemispherical projection) or hemicube.
     #[arg(long, value_enum)]
     pub visibility: Option<VisibilityKind>,
+    /// Beyond the paper, for fewer shots: each shooter also shoots the ambient light it will
+    /// still receive, leaving that much negative unshot energy (Feda & Purgathofer 1992).
+    #[arg(long)]
+    pub overshoot: bool,
+    /// Beyond the paper, for cheaper shots: draw the item buffer at this resolution (16 to
+    /// --hemi-res) for shots that carry less than --small-shot of the emitted power.
+    #[arg(long, value_parser = values::hemi_res(), allow_hyphen_values = true)]
+    pub small_hemi_res: Option<u32>,
+    /// See --small-hemi-res: a share of the emitted power (0 ≤ F < 1).
+    #[arg(
+        long,
+        default_value_t = DEFAULT_SMALL_SHOT,
+        value_parser = values::share,
+        allow_hyphen_values = true,
+    )]
+    pub small_shot: f32,
     /// Camera position, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<Vec3>,
@@ -147,9 +163,15 @@ impl SolveArgs {
             visibility: self.visibility.unwrap_or(base.visibility),
             robust_visibility: base.robust_visibility,
             tuning: base.tuning,
+            overshoot: self.overshoot,
+            small_hemi_res: self.small_hemi_res.unwrap_or(0),
+            small_shot: self.small_shot,
         }
     }
 }
+
+/// `--small-shot`'s default: the fast configuration's (`bench::fast_options`).
+pub const DEFAULT_SMALL_SHOT: f32 = crate::solver::SMALL_SHOT;
 
 fn rayon_threads(requested: usize) -> usize {
     if requested > 0 {

@@ -44,6 +44,16 @@ pub fn threshold(s: &str) -> Result<f32, String> {
     }
 }
 
+/// A share: 0 ≤ F < 1.
+pub fn share(s: &str) -> Result<f32, String> {
+    let v = number(s)?;
+    if (0.0..1.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{s} is outside 0 ≤ F < 1"))
+    }
+}
+
 /// A finite number greater than 0 (exposure, patch size).
 pub fn positive(s: &str) -> Result<f32, String> {
     let v = number(s)?;

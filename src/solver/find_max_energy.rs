@@ -83,13 +83,27 @@ impl EnergyTotals {
         (0..self.energy.len()).map(|p| self.power(p)).sum()
     }
 
-    /// The paper's `Find_Max_Energy_lm`: the polygon with the largest unshot power above
-    /// `floor`, or `None`. Ties go to the lower ID, so the choice is deterministic.
+    /// How much polygon p has left to shoot: π·Σ|L·A| over RGB, averaged; its power when no
+    /// channel is negative (always, unless overshooting leaves negative unshot energy behind,
+    /// which must be shot as well).
+    pub fn magnitude(&self, p: usize) -> f64 {
+        let e = self.energy[p];
+        std::f64::consts::PI * (e[0].abs() + e[1].abs() + e[2].abs()) / 3.0
+    }
+
+    /// Σ of every polygon's [`magnitude`](Self::magnitude): what the stopping rule compares.
+    pub fn total_magnitude(&self) -> f64 {
+        (0..self.energy.len()).map(|p| self.magnitude(p)).sum()
+    }
+
+    /// The paper's `Find_Max_Energy_lm`: the polygon with the most unshot power (the largest
+    /// [`magnitude`](Self::magnitude)) above `floor`, or `None`. Ties go to the lower ID, so the
+    /// choice is deterministic.
     pub fn find_max_energy(&self, floor: f64) -> Option<usize> {
         let mut best = None;
         let mut energy = floor;
         for p in 0..self.energy.len() {
-            let f = self.power(p);
+            let f = self.magnitude(p);
             if f > energy {
                 energy = f;
                 best = Some(p);

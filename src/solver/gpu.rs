@@ -78,6 +78,13 @@ impl<'a> GpuBackend<'a> {
                 max: max / faces,
             });
         }
+        let small = options.small_hemi_res;
+        if small != 0 && !(16..=options.hemi_res).contains(&small) {
+            return Err(SolveError::SmallHemiRes {
+                small,
+                full: options.hemi_res,
+            });
+        }
         if !(options.tessellation >= 0.0 && options.tessellation.is_finite()) {
             return Err(SolveError::Tessellation(options.tessellation));
         }

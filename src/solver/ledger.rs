@@ -93,9 +93,10 @@ impl Ledger {
         self.totals.find_max_energy(0.0)
     }
 
-    /// Unshot power / emitted power.
+    /// Unshot power / emitted power, counting negative unshot energy (left by overshooting) as
+    /// unshot too ([`EnergyTotals::total_magnitude`]).
     pub fn unshot_fraction(&self) -> f64 {
-        self.totals.total_power() / self.emitted_power
+        self.totals.total_magnitude() / self.emitted_power
     }
 
     /// The stopping rule: the unshot fraction at or below `threshold`, or `max_shots` taken.
@@ -119,7 +120,7 @@ impl Ledger {
         self.totals = EnergyTotals::sum(unshot, self.patch_area.len(), Some(&self.patch_area));
     }
 
-    /// Total unshot power now.
+    /// Total unshot power now, signed (negative unshot energy left by overshooting takes away).
     pub fn unshot_power(&self) -> f64 {
         self.totals.total_power()
     }

@@ -7,7 +7,9 @@
 //! `shooters.rs` (the shooter's cells), `visibility/` (item buffer from the shooter, and what it
 //! may leave out), `reconstruction/` (form factors and received energy per patch, accumulation),
 //! `form_factor.rs` (the CPU twins of the shader's factors). `mesh.rs` builds the vertex data
-//! the passes draw; `tuning.rs` holds every speed trick for llvmpipe, apart from the paper.
+//! the passes draw; `tuning.rs` holds every speed trick for llvmpipe, apart from the paper;
+//! `overshoot.rs` the ambient estimate of overshooting, one of the speed options beyond the paper
+//! that change the answer (`SolveOptions::overshoot`, `small_hemi_res`).
 
 pub mod cpu;
 pub mod find_max_energy;
@@ -15,6 +17,7 @@ pub mod form_factor;
 pub mod gpu;
 pub mod ledger;
 pub mod mesh;
+pub mod overshoot;
 pub mod progressive;
 pub mod reconstruction;
 pub mod shooters;
@@ -51,6 +54,11 @@ pub enum SolveError {
     #[error("the item-buffer resolution {res} is outside 16..={max}")]
     HemiRes { res: u32, max: i32 },
     #[error(
+        "the small shots' item-buffer resolution {small} is outside 16..={full} (the \
+         item-buffer resolution)"
+    )]
+    SmallHemiRes { small: u32, full: u32 },
+    #[error(
         "the emitters have no patches at this patch size ({patch_size} scene units): a light \
          smaller than a patch emits nothing; use a smaller patch size or more patches"
     )]
@@ -83,6 +91,10 @@ pub enum SolveError {
 }
 
 use glam::{Mat4, Vec3};
+
+/// The share of the emitted power below which a shot counts as small
+/// (`SolveOptions::small_shot`), as measured against the accuracy guard (docs/accuracy.md).
+pub const SMALL_SHOT: f32 = 0.01;
 
 /// Which form factor the reconstruction pass evaluates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
@@ -132,6 +144,16 @@ pub struct SolveOptions {
     /// Speed switches for llvmpipe that leave the answer as it is (`tuning.rs`); the paper's mode
     /// turns them all off, so that its passes are the paper's.
     pub tuning: Tuning,
+    /// Beyond the paper, for fewer shots: each shooter also shoots the ambient light it will
+    /// still receive, and is left with that much negative unshot energy (`overshoot.rs`).
+    pub overshoot: bool,
+    /// Beyond the paper, for cheaper shots: a shot that carries less than `small_shot` of the
+    /// emitted power draws its item buffer at `small_hemi_res` per side instead of `hemi_res`
+    /// (0: every shot at `hemi_res`). Such shots carry little of the light, and the item
+    /// buffer's sampling errors of many small shots average out.
+    pub small_hemi_res: u32,
+    /// See `small_hemi_res`: a share of the emitted power, 0 to 1.
+    pub small_shot: f32,
 }
 
 impl SolveOptions {
@@ -149,6 +171,9 @@ impl SolveOptions {
             visibility: VisibilityKind::Hemisphere,
             robust_visibility: false,
             tuning: Tuning::none(),
+            overshoot: false,
+            small_hemi_res: 0,
+            small_shot: 0.0,
         }
     }
 
@@ -197,6 +222,11 @@ pub struct Shooter {
     pub corner_count: usize,
     /// Area of that outline.
     pub area: f32,
+    /// The unshot radiance the shooting patches are left with: zero in the paper; minus the
+    /// overshoot when overshooting (`overshoot.rs`), which `energy` then includes.
+    pub remainder: Vec3,
+    /// Item-buffer side for this shot's visibility pass (per hemicube face).
+    pub hemi_res: u32,
 }
 
 impl Shooter {
@@ -206,7 +236,7 @@ impl Shooter {
         Mat4::look_at_rh(self.position, self.position + self.normal, up)
     }
 
-    /// Power it shoots, π·L·A, averaged over RGB.
+    /// Power it shoots, π·L·A, averaged over RGB (negative for negative unshot energy).
     pub fn power(&self) -> f64 {
         std::f64::consts::PI * (self.energy.x as f64 + self.energy.y as f64 + self.energy.z as f64)
             / 3.0

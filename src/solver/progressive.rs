@@ -17,6 +17,7 @@
 //! runs the loop and keeps the books ([`Ledger`]); `GpuSolver` and `CpuSolver` name the two.
 
 use super::ledger::{Ledger, PassTimes};
+use super::overshoot::Overshoot;
 use super::{shooters, Shooter, ShotRecord, SolveError, SolveOptions};
 use crate::patches::{Lightmap, PatchLayout};
 use crate::scene::Scene;
@@ -61,6 +62,10 @@ pub struct Solver<'a, B: Backend> {
     /// The unshot power the solve started from (the emitted power, or what `load_atlases`
     /// loaded): a valid solve never goes above it.
     unshot_ceiling: f64,
+    /// The ambient estimate, when overshooting (`SolveOptions::overshoot`).
+    overshoot: Option<Overshoot>,
+    /// Per polygon, the area of its patches (patches × patch area).
+    patched_area: Vec<f64>,
 }
 
 /// Pass names, as `PassTimes` keys them.
@@ -79,16 +84,23 @@ impl<'a, B: Backend> Solver<'a, B> {
         backend: B,
     ) -> Result<Self, SolveError> {
         let ledger = Ledger::new(scene, backend.unshot(), layout.patch_size)?;
+        let overshoot = options
+            .overshoot
+            .then(|| Overshoot::new(scene, ledger.patches()));
         Ok(Solver {
             scene,
             layout,
             options,
             texels: backend.layout().texel_rects(),
             backend,
-            ledger,
             changed: Vec::new(),
             excess_reported: std::cell::Cell::new(false),
             unshot_ceiling: 0.0,
+            overshoot,
+            patched_area: (ledger.patches().iter().enumerate())
+                .map(|(p, &n)| n as f64 * ledger.patch_area(p))
+                .collect(),
+            ledger,
         })
     }
 
@@ -154,9 +166,10 @@ impl<'a, B: Backend> Solver<'a, B> {
             .materials
             .iter()
             .fold(glam::Vec3::ZERO, |m, material| m.max(material.kd));
+        // By magnitude: an overshot shooter's negative unshot energy shoots negative light.
         let energy = shooters
             .iter()
-            .fold(glam::DVec3::ZERO, |e, s| e + s.energy.as_dvec3());
+            .fold(glam::DVec3::ZERO, |e, s| e + s.energy.as_dvec3().abs());
         std::f64::consts::PI * energy.dot(kd.as_dvec3()) / 3.0
     }
 
@@ -178,10 +191,14 @@ impl<'a, B: Backend> Solver<'a, B> {
         // Float noise of the f32 atlas sums; a few 1e-3 also covers the hemicube's per-pixel
         // delta form factors, which add up to 1 only within their discretisation.
         let slack = 5e-3 * bound + 1e-9 * self.ledger.emitted_power();
-        let over = record.reflected_power > bound + slack || record.reflected_power.is_nan();
+        let over = record.reflected_power.abs() > bound + slack || record.reflected_power.is_nan();
         let ceiling = self.unshot_ceiling.max(self.ledger.emitted_power());
         let growth = self.ledger.unshot_power() / ceiling;
-        let runaway = growth > 1.0 + 5e-3 || !growth.is_finite();
+        // Overshooting leaves negative unshot energy behind, so the magnitude may pass the
+        // ceiling a little (the signed total may not); twice over is a runaway all the same.
+        let magnitude = self.ledger.unshot_fraction() * self.ledger.emitted_power() / ceiling;
+        let runaway =
+            growth > 1.0 + 5e-3 || !growth.is_finite() || !magnitude.is_finite() || magnitude > 2.0;
         if !runaway {
             if over && !self.excess_reported.replace(true) {
                 eprintln!(
@@ -270,13 +287,18 @@ impl<'a, B: Backend> Solver<'a, B> {
         }
     }
 
-    /// Find_Max_Energy: the polygon with the most unshot power.
+    /// Find_Max_Energy: the polygon with the most unshot power (when overshooting, whose shot
+    /// would carry the most: `Overshoot::find_max_energy`).
     pub fn next_polygon(&self) -> Option<usize> {
-        self.ledger.find_max_energy()
+        match &self.overshoot {
+            Some(o) => o.find_max_energy(self.ledger.totals(), &self.patched_area),
+            None => self.ledger.find_max_energy(),
+        }
     }
 
     /// The shooters that carry polygon `p`'s unshot energy (see `shooters::shooters_of`), their
-    /// texels in the caller's layout.
+    /// texels in the caller's layout; with their overshoot and item-buffer resolution when the
+    /// options go beyond the paper there.
     pub fn shooters_of(&self, p: usize) -> Vec<Shooter> {
         let own = self.backend.layout();
         let mut shooters = shooters::shooters_of(
@@ -288,10 +310,34 @@ impl<'a, B: Backend> Solver<'a, B> {
             self.ledger.totals(),
             p,
         );
+        let remainder = self
+            .overshoot
+            .as_ref()
+            .map(|o| o.remainder(self.ledger.totals(), p));
         for s in &mut shooters {
+            if let Some(remainder) = remainder {
+                // Each of the shooter's patches shoots −remainder more radiance.
+                let area = patches_in(own, self.backend.unshot(), s.texels, p) as f64
+                    * self.ledger.patch_area(p);
+                s.energy -= remainder * area as f32;
+                s.remainder = remainder;
+            }
+            s.hemi_res = self.item_buffer_resolution(s);
             s.texels = move_rect(s.texels, &own.lightmaps[p], &self.layout.lightmaps[p]);
         }
         shooters
+    }
+
+    /// The item-buffer resolution for shooter `s`: `small_hemi_res` for a shot that carries less
+    /// than `small_shot` of the emitted power (`SolveOptions::small_hemi_res`), else `hemi_res`.
+    fn item_buffer_resolution(&self, s: &Shooter) -> u32 {
+        let o = &self.options;
+        let small = s.power().abs() < o.small_shot as f64 * self.ledger.emitted_power();
+        if o.small_hemi_res > 0 && small {
+            o.small_hemi_res
+        } else {
+            o.hemi_res
+        }
     }
 
     pub fn converged(&self) -> bool {
@@ -406,6 +452,19 @@ impl<'a, B: Backend> Solver<'a, B> {
     fn to_caller(&self, atlas: &[f32]) -> Vec<f32> {
         self.backend.layout().move_atlas(atlas, 4, self.layout)
     }
+}
+
+/// The patches of polygon `p` in the texel rectangle `[x0, y0, x1, y1)` of `layout`'s atlas
+/// (`atlas`: RGBA, alpha the polygon ID + 1).
+fn patches_in(layout: &PatchLayout, atlas: &[f32], [x0, y0, x1, y1]: [u32; 4], p: usize) -> u32 {
+    let width = layout.atlas_width as usize;
+    let id = (p + 1) as f32;
+    let mut n = 0;
+    for y in y0 as usize..y1 as usize {
+        let row = &atlas[(y * width + x0 as usize) * 4..(y * width + x1 as usize) * 4];
+        n += row.chunks_exact(4).filter(|t| t[3] == id).count() as u32;
+    }
+    n
 }
 
 /// A texel rectangle of lightmap `from` at the same place in `to` (the same lightmap elsewhere).

@@ -60,6 +60,8 @@ pub fn shooters_of(
             corners,
             corner_count,
             area,
+            remainder: Vec3::ZERO,
+            hemi_res: options.hemi_res,
         }];
     }
     let width = layout.atlas_width as usize;
@@ -79,7 +81,8 @@ pub fn shooters_of(
                 for c in 0..3 {
                     energy[c] += texel[c] as f64 * patch_area;
                 }
-                let w = texel[0] + texel[1] + texel[2];
+                // By magnitude: overshooting leaves negative unshot energy to shoot as well.
+                let w = (texel[0] + texel[1] + texel[2]).abs();
                 position += w * lm.world(s as f32 + 0.5, t as f32 + 0.5);
                 weight += w;
             }
@@ -104,6 +107,8 @@ pub fn shooters_of(
             corners,
             corner_count,
             area,
+            remainder: Vec3::ZERO,
+            hemi_res: options.hemi_res,
         })
     };
     // A cell shoots from one point, so everything it sends passes the visibility test of that
@@ -122,22 +127,24 @@ pub fn shooters_of(
     while let Some([x0, y0, x1, y1]) = parts.pop() {
         // A cell whose patches partly have nothing to shoot (buried under a block standing on
         // the floor, or in a shadow nothing has reached yet) would spread its energy over its
-        // whole outline, dark part included: its patches with energy shoot one by one.
-        let (mut lit, mut dark) = (0, 0);
+        // whole outline, dark part included: its patches with energy shoot one by one. So do
+        // those of a cell whose patches have energy of both signs (left by overshooting).
+        let (mut lit, mut negative, mut dark) = (0, 0, 0);
         for t in y0..y1 {
             for s in x0..x1 {
-                match texel(s, t) {
-                    Some(v) if v[0] + v[1] + v[2] > 0.0 => lit += 1,
+                match texel(s, t).map(|v| v[0] + v[1] + v[2]) {
+                    Some(sum) if sum > 0.0 => lit += 1,
+                    Some(sum) if sum < 0.0 => negative += 1,
                     Some(_) => dark += 1,
                     None => {}
                 }
             }
         }
-        if lit == 0 {
+        if lit + negative == 0 {
             continue;
         }
         let single = x1 - x0 == 1 && y1 - y0 == 1;
-        if dark > 0 && !single {
+        if (dark > 0 || (lit > 0 && negative > 0)) && !single {
             for t in y0..y1 {
                 for s in x0..x1 {
                     parts.push([s, t, s + 1, t + 1]);

@@ -10,6 +10,10 @@
 //! test rejects all of it; discards and branches save nothing. So the cost of a pass is the
 //! number of blocks drawn and the number of instructions in the shader, whatever the fragments
 //! decide.
+//!
+//! The speed options that do change the answer (overshooting, the item buffer chosen per shot)
+//! are not here but in [`SolveOptions`](super::SolveOptions), off in both modes,
+//! each measured against the accuracy guard (`validate::guard`, paper_notes "Beyond the paper").
 
 /// Speed switches of the passes (see the module comment). `Default` is [`Tuning::llvmpipe`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]

@@ -131,7 +131,7 @@ impl Backend for CpuBackend<'_> {
                 .for_each(|(d, r)| *d = reconstruction::delta(r, shooter, kind, bvh));
         });
         // The sums, in receiver order (the same for any thread count); the shooting texels'
-        // unshot radiance zero.
+        // unshot radiance zero (or the overshoot's remainder).
         let [x0, y0, x1, y1] = shooter.texels.map(|v| v as usize);
         let width = self.layout.atlas_width as usize;
         for (r, d) in self.receivers.iter().zip(&self.deltas) {
@@ -142,7 +142,7 @@ impl Backend for CpuBackend<'_> {
             if r.polygon as usize == shooter.polygon {
                 let (x, y) = (r.texel % width, r.texel / width);
                 if (x0..x1).contains(&x) && (y0..y1).contains(&y) {
-                    self.unshot[at..at + 3].fill(0.0);
+                    self.unshot[at..at + 3].copy_from_slice(&shooter.remainder.to_array());
                 }
                 continue;
             }

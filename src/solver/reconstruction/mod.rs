@@ -300,6 +300,8 @@ impl ReconstructionPass {
             p.set_i32("LightmapRadiosity", 1);
             p.set_i32("LightmapUnshot", 2);
             p.set_ivec4("ShooterTexels", shooter.texels.map(|t| t as i32));
+            p.set_vec3("ShooterRemainder", shooter.remainder.to_array());
+            p.set_i32("HemiRes", shooter.hemi_res as i32);
             p.set_i32("HemiItemBuffer", 0);
             p.set_mat4("ShooterView", &shooter.view().to_cols_array());
             p.set_vec3("ShootPos", shooter.position.to_array());

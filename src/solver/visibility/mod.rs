@@ -304,12 +304,18 @@ impl VisibilityPass {
         }
         self.stream.upload(&self.indices);
 
+        // This shot's resolution (`SolveOptions::small_hemi_res`): the views fill the item
+        // buffer's lower-left corner, and the reconstruction pass looks up only that.
+        let r = (shooter.hemi_res as i32).clamp(1, self.resolution);
+        let (width, height) = (self.item_buffer.width / self.resolution * r, r);
         self.fbo.bind();
         unsafe {
-            gl.viewport(0, 0, self.item_buffer.width, self.item_buffer.height);
+            gl.viewport(0, 0, width, height);
             gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
             gl.disable(glow::BLEND);
-            gl.disable(glow::SCISSOR_TEST);
+            // The clears too cover only this shot's pixels.
+            gl.enable(glow::SCISSOR_TEST);
+            gl.scissor(0, 0, width, height);
             // Back faces occlude too: a wall seen from behind is still a wall.
             gl.disable(glow::CULL_FACE);
             gl.enable(glow::DEPTH_TEST);
@@ -318,6 +324,7 @@ impl VisibilityPass {
             gl.clear_buffer_f32_slice(glow::COLOR, 0, &[0.0; 4]);
             gl.clear_depth_f64(1.0);
             gl.clear(glow::DEPTH_BUFFER_BIT);
+            gl.disable(glow::SCISSOR_TEST);
         }
         self.program.use_program();
         self.program.set_f32("ShooterId", shooter_plate as f32);
@@ -335,7 +342,6 @@ impl VisibilityPass {
                 let widen = Mat4::from_scale(Vec3::new(1.0 / g as f32, 1.0 / g as f32, 1.0));
                 let projection =
                     widen * Mat4::perspective_rh_gl(std::f32::consts::FRAC_PI_2, 1.0, n, f);
-                let r = self.resolution;
                 let margin = (g - 1) / 2 * r;
                 unsafe { gl.enable(glow::SCISSOR_TEST) };
                 for (k, rotation) in rotations.iter().enumerate() {
