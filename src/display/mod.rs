@@ -7,6 +7,7 @@ pub mod output_set;
 pub mod passes;
 pub mod plot;
 mod render;
+pub mod scaling_plot;
 
 pub use render::{render, scene_view_projection, DisplayPass, Image, Viewport};
 

@@ -12,7 +12,7 @@ use std::sync::Once;
 
 const SIZE: (u32, u32) = (1200, 480);
 
-fn register_font() {
+pub(super) fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         // The bytes are a valid TrueType font; a failure would only lose the labels.

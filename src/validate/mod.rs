@@ -5,6 +5,7 @@
 
 mod cases;
 mod direct;
+pub mod guard;
 
 pub use cases::*;
 

@@ -1,0 +1,256 @@
+//! `radiosity bench`: timed runs of the solvers.
+//!
+//! - `table1` (`table1.rs`): the paper's Table 1 on this machine, both rooms and both solvers,
+//!   the paper-faithful configuration beside the fast one.
+//! - `guard` (`guard.rs`): every speed option on the simple room, its time beside its accuracy
+//!   against the exhaustive CPU solution (`validate::guard`).
+//! - `scaling` (`scaling.rs`): seconds, shots and peak memory against the patch count, both
+//!   solvers, with a log-log plot.
+//!
+//! The configurations they time are here: [`bench_options`] (the paper's loop: one polygon and one
+//! pass per shot) and [`fast_options`] (the same with the speed options beyond the paper).
+
+mod guard;
+pub mod scaling;
+mod table1;
+
+use crate::gl::{BackendChoice, GlContext};
+use crate::patches::{PatchLayout, Resolution};
+use crate::scene::bundled;
+use crate::solver::{GpuSolver, SolveOptions};
+use anyhow::{Context, Result};
+use std::time::Instant;
+
+pub use table1::shader_cache_disabled_by_env;
+
+/// Mesa's on-disk shader cache during the timed GPU setups.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShaderCache {
+    /// Timed runs warm, plus one cold setup per room and repeat in a child process.
+    Both,
+    /// Timed runs warm (one untimed run first fills the cache).
+    Warm,
+    /// Every run with the cache disabled (`MESA_SHADER_CACHE_DISABLE=true`).
+    Cold,
+}
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct BenchArgs {
+    /// What to benchmark: `table1` (the paper's Table 1, paper-faithful and fast rows), `guard`
+    /// (each speed option's time and accuracy on the simple room), `scaling` (cost against
+    /// patch count, both solvers).
+    #[arg(value_parser = ["table1", "guard", "scaling"])]
+    pub what: String,
+    #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
+    pub backend: BackendChoice,
+    /// Stopping rule: unshot power / emitted power (0 < F < 1).
+    #[arg(
+        long,
+        default_value_t = 0.01,
+        value_parser = super::values::threshold,
+        allow_hyphen_values = true,
+    )]
+    pub threshold: f32,
+    /// Runs per measurement, 1 to 1000; the median is reported.
+    #[arg(
+        long,
+        default_value_t = 1,
+        value_parser = clap::value_parser!(u32).range(1..=super::values::MAX_REPEAT as i64),
+        allow_hyphen_values = true,
+    )]
+    pub repeat: u32,
+    /// Only these rooms (simple, complex).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_values_t = ["simple".to_string(), "complex".to_string()],
+    )]
+    pub scenes: Vec<String>,
+    /// Worker threads of the CPU solver (0: one per core; at most 4 per core).
+    #[arg(
+        long,
+        default_value_t = 0,
+        value_parser = super::values::threads,
+        allow_hyphen_values = true,
+    )]
+    pub threads: usize,
+    /// Also write the table as JSON.
+    #[arg(long)]
+    pub json: Option<std::path::PathBuf>,
+    /// Mesa's on-disk shader cache for the GPU setup: `both` times the runs warm and one setup
+    /// per room and repeat cold (`MESA_SHADER_CACHE_DISABLE=true`, in a child process), `warm`
+    /// or `cold` only that one. The state is printed, and `cold` is what any run gets when the
+    /// environment already disables the cache.
+    #[arg(long, value_enum, default_value_t = ShaderCache::Both)]
+    pub shader_cache: ShaderCache,
+    /// `scaling`: patch-count multiples of the rooms' own (1 to 64).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_values_t = [1u32, 4, 16],
+        value_parser = clap::value_parser!(u32).range(1..=64),
+    )]
+    pub scales: Vec<u32>,
+    /// `scaling`: stop a run after this many seconds of shots (1 to 86400) and extrapolate its
+    /// time from its shots per second and the other solver's shot count.
+    #[arg(
+        long,
+        default_value_t = 3600,
+        value_parser = clap::value_parser!(u64).range(1..=86_400),
+    )]
+    pub budget: u64,
+    /// `scaling`: write the log-log plot here (PNG).
+    #[arg(long)]
+    pub plot: Option<std::path::PathBuf>,
+    /// `scaling`: print and plot a report saved with `--json` instead of running the solves.
+    #[arg(long)]
+    pub from: Option<std::path::PathBuf>,
+    /// Internal (`scaling`'s child processes): run one solve and print its figures as JSON:
+    /// ROOM,SCALE,SOLVER.
+    #[arg(long, hide = true)]
+    pub one: Option<String>,
+    /// `scaling` (and the internal cold run of `table1`): the configuration to time,
+    /// `paper-faithful` (one polygon, one pass per shot) or `fast` (with the speed options).
+    #[arg(long, default_value = "paper-faithful", value_parser = ["paper-faithful", "fast"])]
+    pub configuration: String,
+    /// Internal (the cold measurement's child process): time one GPU run of the first room and
+    /// print `setup_s <seconds>`, `loop_s <seconds>` and `shots <n>`.
+    #[arg(long, hide = true)]
+    pub gpu_only: bool,
+}
+
+/// The bench's solver settings: the paper's loop (one pass per shot, the whole polygon shoots)
+/// with the accurate mode's form factor and visibility, which stay stable on these rooms (the
+/// paper's point factor creates energy between close polygons and never converges here).
+///
+/// The hemicube is 128² per face, chosen by measurement on the simple room (README, "Table 1"):
+/// against the CPU solver's exact ray casts the mean patch difference is 3.3 % at 64², 1.5 % at
+/// 128², 1.1 % at 192² and at 256², while the visibility pass costs about twice as much at 256²
+/// as at 128². A 128² face pixel at the room's typical 2.5 m is 4 cm, a third of a patch.
+pub fn bench_options(threshold: f32) -> SolveOptions {
+    SolveOptions {
+        threshold,
+        shooter_cell: 0,
+        emitter_cell: 0,
+        max_shots: 1_000_000,
+        hemi_res: BENCH_HEMI_RES,
+        ..SolveOptions::accurate()
+    }
+}
+
+/// Item-buffer resolution of the bench (see `bench_options`).
+pub const BENCH_HEMI_RES: u32 = 128;
+
+pub fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+pub fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into())
+}
+
+/// Peak resident memory of this process (VmHWM), MiB.
+pub fn peak_memory_mib() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("VmHWM"))
+                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        })
+        .map(|kib| kib / 1024.0)
+        .unwrap_or(0.0)
+}
+
+/// Item-buffer resolutions of the fast configuration (see [`fast_options`]): the big shots'
+/// and the small shots'.
+pub const FAST_HEMI_RES: u32 = 256;
+pub const FAST_SMALL_HEMI_RES: u32 = 64;
+
+/// The item buffer chosen per shot: [`FAST_HEMI_RES`]² for the few shots that carry more than
+/// [`crate::solver::SMALL_SHOT`] of the emitted power (on the simple room 11 of 1,352, with 70 %
+/// of all the power shot), [`FAST_SMALL_HEMI_RES`]² for the others, whose sampling errors
+/// average out over many small shots.
+fn by_shot(options: SolveOptions) -> SolveOptions {
+    SolveOptions {
+        hemi_res: FAST_HEMI_RES,
+        small_hemi_res: FAST_SMALL_HEMI_RES,
+        small_shot: crate::solver::SMALL_SHOT,
+        ..options
+    }
+}
+
+/// The fast configuration (beyond the paper; measured against the accuracy guard in
+/// docs/accuracy.md): [`bench_options`] with overshooting and the item buffer chosen per shot.
+pub fn fast_options(threshold: f32) -> SolveOptions {
+    by_shot(SolveOptions {
+        overshoot: true,
+        ..bench_options(threshold)
+    })
+}
+
+/// The configurations `bench guard` compares: the paper-faithful one, each speed option alone,
+/// and the fast one (all of them).
+pub fn configurations(threshold: f32) -> Vec<(&'static str, SolveOptions)> {
+    let base = bench_options(threshold);
+    vec![
+        ("paper-faithful", base.clone()),
+        (
+            "overshoot",
+            SolveOptions {
+                overshoot: true,
+                ..base.clone()
+            },
+        ),
+        ("item buffer by shot", by_shot(base)),
+        ("fast", fast_options(threshold)),
+    ]
+}
+
+pub fn room(name: &str) -> Result<(crate::scene::Scene, PatchLayout)> {
+    let scene = bundled::find(name)
+        .with_context(|| format!("no built-in room '{name}': the rooms are simple and complex"))?
+        .load()?;
+    let size = scene
+        .patch_size
+        .context("the room has no `# patch-size` line")?;
+    let layout = PatchLayout::try_new(&scene, Resolution::PatchSize(size))?;
+    Ok((scene, layout))
+}
+
+/// One timed GPU run: the setup (a new GL context and `GpuSolver::new`, up to a `glFinish`, so
+/// that no queued upload or emission pass is left for the loop), then the loop. Returns the
+/// setup's and the loop's seconds, the shots and the solution (the radiance atlas).
+pub fn gpu_run(
+    backend: BackendChoice,
+    scene: &crate::scene::Scene,
+    layout: &PatchLayout,
+    options: &SolveOptions,
+) -> Result<(f64, f64, u32, Vec<f32>)> {
+    use glow::HasContext;
+    let start = Instant::now();
+    let ctx = GlContext::headless(backend)?;
+    let mut gpu = GpuSolver::new(&ctx, scene, layout, options.clone())?;
+    unsafe { ctx.gl.finish() };
+    let setup = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    gpu.solve(|_| {})?;
+    let run = start.elapsed().as_secs_f64();
+    Ok((setup, run, gpu.shots(), gpu.radiosity_atlas()))
+}
+
+pub fn run_bench(args: &BenchArgs) -> Result<()> {
+    match args.what.as_str() {
+        "guard" => guard::run(args),
+        "scaling" => scaling::run(args),
+        _ => table1::run(args),
+    }
+}
