@@ -28,13 +28,14 @@ fn table1_reports_the_rooms_counts_and_both_solvers() {
         String::from_utf8_lossy(&out.stderr)
     );
     println!("{stdout}");
-    assert!(
-        stdout.contains("| simple | 1602 | 6431 | 2 | 14445 |"),
-        "{stdout}"
-    );
+    // Two rows: the paper-faithful configuration and the fast one, timed in the same run.
+    for configuration in ["paper-faithful", "fast"] {
+        let row = format!("| simple | {configuration} | 1602 | 6431 | 2 | 14445 |");
+        assert!(stdout.contains(&row), "no row {row}: {stdout}");
+    }
     // Setup and loop in separate columns for both solvers, the shader cache's state printed.
     for column in [
-        "| CPU setup s | CPU loop s | GPU setup s cold / warm | GPU loop s cold / warm | CPU/GPU loops |",
+        "| CPU setup s | CPU loop s | GPU setup s cold / warm | GPU loop s cold / warm | CPU/GPU loops | mean patch diff |",
         "| paper CPU s | paper GPU s | paper CPU/GPU |",
     ] {
         assert!(stdout.contains(column), "no columns {column}: {stdout}");
@@ -42,6 +43,16 @@ fn table1_reports_the_rooms_counts_and_both_solvers() {
     assert!(stdout.contains("shader cache: "), "{stdout}");
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["rows"].as_array().unwrap().len(), 2);
+    assert_eq!(report["fast_options"]["overshoot"], true);
+    for (k, configuration) in ["paper-faithful", "fast"].iter().enumerate() {
+        let row = &report["rows"][k];
+        assert_eq!(row["configuration"], *configuration);
+        // The accuracy guard beside the times (a fraction; at 50 % unshot far from the
+        // exhaustive solution, but measured).
+        let d = row["mean_patch_difference"].as_f64().unwrap();
+        assert!(d > 0.0 && d < 1.0, "{configuration}: {d}");
+    }
     let row = &report["rows"][0];
     assert_eq!(row["paper_cpu_seconds"], 4.0);
     assert_eq!(row["paper_gpu_seconds"], 2.0);
@@ -117,4 +128,61 @@ fn table1_reports_a_cold_shader_cache_when_asked() {
     assert!(gpu.get("setup_cold_s").is_none() && gpu.get("loop_cold_s").is_none());
     assert!(gpu["setup_s"].as_f64().unwrap() > 0.0 && gpu["loop_s"].as_f64().unwrap() > 0.0);
     assert_eq!(report["shader_cache"], "cold");
+}
+
+#[test]
+fn scaling_reports_each_size_and_solver_with_an_exponent_and_a_plot() {
+    let dir = tempfile::tempdir().unwrap();
+    let (json, plot) = (
+        dir.path().join("scaling.json"),
+        dir.path().join("scaling.png"),
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args(["bench", "scaling", "--scenes", "simple", "--scales", "1,2"])
+        .args(["--threshold", "0.5", "--budget", "60", "--json"])
+        .arg(&json)
+        .arg("--plot")
+        .arg(&plot)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    println!("{stdout}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let runs = report["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 4, "two sizes, two solvers");
+    for run in runs {
+        assert!(run["complete"].as_bool().unwrap(), "{run}");
+        assert!(run["shots"].as_u64().unwrap() > 0, "{run}");
+        assert!(run["peak_mib"].as_f64().unwrap() > 0.0, "{run}");
+        assert_eq!(run["loop_to_convergence_s"], run["loop_s"], "{run}");
+    }
+    // The larger size has more patches.
+    assert!(runs[2]["patches"].as_u64() > runs[0]["patches"].as_u64());
+    assert_eq!(report["exponents"].as_array().unwrap().len(), 2);
+    assert!(
+        stdout.contains("exponent simple gpu: loop time ∝ patches^"),
+        "{stdout}"
+    );
+    let png = image::open(&plot).unwrap();
+    assert_eq!((png.width(), png.height()), (900, 600));
+    // The saved report replots without solving, to the same picture.
+    let again = dir.path().join("again.png");
+    let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args(["bench", "scaling", "--from"])
+        .arg(&json)
+        .arg("--plot")
+        .arg(&again)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert_eq!(
+        std::fs::read(&plot).unwrap(),
+        std::fs::read(&again).unwrap()
+    );
 }

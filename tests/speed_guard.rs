@@ -1,0 +1,161 @@
+//! The accuracy guard of the speed options (issue 21; `validate::guard`): on the simple Table 1
+//! room, every configuration `radiosity bench guard` times, solved on the GPU to the bench's
+//! stopping rule, against the CPU solver run exhaustively (exact visibility, to 0.1 % unshot).
+//! A speed option may not make the answer worse than the paper-faithful configuration's, and
+//! the fast configuration (the one Table 1's fast row times) must stay within 1.5 %.
+
+mod common;
+
+use common::*;
+use gpu_radiosity::cli::bench::{bench_options, configurations, room};
+use gpu_radiosity::solver::GpuSolver;
+use gpu_radiosity::validate::guard;
+
+#[test]
+fn no_speed_option_moves_the_simple_room_away_from_the_exhaustive_solution() {
+    let (scene, layout) = room("simple").unwrap();
+    let (reference, shots) = guard::reference(&scene, &layout, &bench_options(0.01), 0).unwrap();
+    println!("reference: {shots} shots");
+    let (_lock, ctx) = serial_context();
+    let mut differences = Vec::new();
+    for (name, options) in configurations(0.01) {
+        let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
+        gpu.solve(|_| {}).unwrap();
+        let d = guard::mean_patch_difference(&gpu.radiosity_atlas(), &reference);
+        println!(
+            "{name}: {} shots, mean patch difference {:.3} %",
+            gpu.shots(),
+            100.0 * d
+        );
+        differences.push((name, gpu.shots(), d));
+    }
+    let (_, base_shots, base) = differences[0];
+    for &(name, shots, d) in &differences[1..] {
+        assert!(
+            d <= base,
+            "{name}: {:.3} % from the exhaustive solution, the paper-faithful configuration {:.3} %",
+            100.0 * d,
+            100.0 * base
+        );
+        // Overshooting saves time by taking fewer shots (the others by cheaper ones).
+        if name == "overshoot" || name == "fast" {
+            assert!(
+                shots < base_shots,
+                "{name}: {shots} shots, paper-faithful {base_shots}"
+            );
+        }
+    }
+    let (name, _, fast) = *differences.last().unwrap();
+    assert_eq!(name, "fast");
+    assert!(
+        fast <= guard::MEAN_DIFFERENCE_BOUND,
+        "fast: {:.3} %",
+        100.0 * fast
+    );
+    // README ("Table 1") and docs/accuracy.md quote these.
+    let quoted = [
+        ("paper-faithful", "1.86", 1352),
+        ("overshoot", "1.61", 885),
+        ("item buffer by shot", "1.68", 1382),
+        ("fast", "1.47", 896),
+    ];
+    for ((name, d_quoted, shots_quoted), &(got, shots, d)) in quoted.iter().zip(&differences) {
+        assert_eq!(*name, got);
+        assert_quoted(
+            &format!("{name}, mean patch difference %"),
+            100.0 * d,
+            d_quoted,
+        );
+        assert_eq!(shots, *shots_quoted, "{name}: shots");
+    }
+}
+
+/// The CPU solver follows overshooting the way the GPU does (the item buffer's resolution is the
+/// GPU's alone), so the two still agree patch by patch on the Cornell box, within the bounds
+/// `tests/gpu_vs_cpu.rs` sets without it.
+#[test]
+fn the_cpu_twin_follows_the_speed_options() {
+    use gpu_radiosity::patches::{PatchLayout, Resolution};
+    use gpu_radiosity::solver::cpu::CpuSolver;
+    use gpu_radiosity::solver::SolveOptions;
+    let scene = load("cornell");
+    let layout = PatchLayout::new(&scene, Resolution::Patches(1500));
+    let options = SolveOptions {
+        threshold: 1e-3,
+        overshoot: true,
+        ..SolveOptions::accurate()
+    };
+    let gpu_atlas = {
+        let (_lock, ctx) = serial_context();
+        let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
+        gpu.solve(|_| {}).unwrap();
+        (gpu.radiosity_atlas(), gpu.shots())
+    };
+    let mut cpu = CpuSolver::new(&scene, &layout, options, 0).unwrap();
+    cpu.solve(|_| {}).unwrap();
+    let mean = |t: &[f32]| (t[0] as f64 + t[1] as f64 + t[2] as f64) / 3.0;
+    let mut errors: Vec<f64> = (gpu_atlas.0.chunks_exact(4))
+        .zip(cpu.radiosity_atlas().chunks_exact(4))
+        .filter(|(_, c)| c[3] > 0.0)
+        .map(|(g, c)| (mean(g) - mean(c)).abs() / mean(c).max(1e-3))
+        .collect();
+    errors.sort_by(|a, b| a.total_cmp(b));
+    let q = |f: f64| errors[((errors.len() - 1) as f64 * f) as usize];
+    let avg = errors.iter().sum::<f64>() / errors.len() as f64;
+    println!(
+        "GPU {} shots, CPU {} shots; relative difference mean {:.4} %, median {:.4} %, 95th {:.3} %",
+        gpu_atlas.1,
+        cpu.shots(),
+        100.0 * avg,
+        100.0 * q(0.5),
+        100.0 * q(0.95)
+    );
+    assert!(
+        gpu_atlas.1.abs_diff(cpu.shots()) <= gpu_atlas.1 / 20,
+        "shots"
+    );
+    assert!(q(0.5) < 0.01, "median {}", q(0.5));
+    assert!(q(0.95) < 0.05, "95th percentile {}", q(0.95));
+    assert!(avg < 0.025, "mean {avg}");
+}
+
+/// Overshooting changes the path, not the destination: solved far down (1e-5 unshot), the
+/// Cornell box comes out the same with and without it, and with fewer shots.
+#[test]
+fn overshooting_converges_to_the_same_solution_in_fewer_shots() {
+    use gpu_radiosity::patches::{PatchLayout, Resolution};
+    use gpu_radiosity::solver::cpu::CpuSolver;
+    use gpu_radiosity::solver::SolveOptions;
+    let scene = load("cornell");
+    let layout = PatchLayout::new(&scene, Resolution::Patches(400));
+    let solve = |overshoot: bool| {
+        let options = SolveOptions {
+            threshold: 1e-5,
+            shooter_cell: 0,
+            emitter_cell: 0,
+            overshoot,
+            ..SolveOptions::accurate()
+        };
+        let mut cpu = CpuSolver::new(&scene, &layout, options, 0).unwrap();
+        cpu.solve(|_| {}).unwrap();
+        // Never more unshot power, in magnitude, than was emitted.
+        for r in cpu.history() {
+            assert!(
+                r.unshot_fraction <= 1.0 + 1e-6,
+                "shot {}: {}",
+                r.shot,
+                r.unshot_fraction
+            );
+        }
+        (cpu.radiosity_atlas(), cpu.shots())
+    };
+    let (plain, plain_shots) = solve(false);
+    let (over, over_shots) = solve(true);
+    let d = guard::mean_patch_difference(&over, &plain);
+    println!("without {plain_shots} shots, with {over_shots}; mean patch difference {d:.2e}");
+    assert!(
+        over_shots < plain_shots,
+        "{over_shots} against {plain_shots}"
+    );
+    assert!(d < 1e-4, "mean patch difference {d}");
+}
