@@ -247,6 +247,33 @@ pub fn gpu_run(
     Ok((setup, run, gpu.shots(), gpu.radiosity_atlas()))
 }
 
+/// A child process of this program: `bench` with `args`, the backend and threshold of `parent`,
+/// and `env`, its stderr passed through. Returns what it printed, or an error naming `what`.
+pub fn run_child(
+    parent: &BenchArgs,
+    args: &[&str],
+    env: &[(&str, &str)],
+    what: &str,
+) -> Result<String> {
+    use clap::ValueEnum;
+    let backend = parent
+        .backend
+        .to_possible_value()
+        .context("a backend name")?;
+    let out = std::process::Command::new(std::env::current_exe()?)
+        .arg("bench")
+        .args(args)
+        .args(["--backend", backend.get_name()])
+        .args(["--threshold", &parent.threshold.to_string()])
+        .envs(env.iter().copied())
+        .stderr(std::process::Stdio::inherit())
+        .output()
+        .with_context(|| format!("running {what} in a child process"))?;
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    anyhow::ensure!(out.status.success(), "{what} failed: {text}");
+    Ok(text)
+}
+
 pub fn run_bench(args: &BenchArgs) -> Result<()> {
     match args.what.as_str() {
         "guard" => guard::run(args),

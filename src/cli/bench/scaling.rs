@@ -8,7 +8,7 @@
 //! marked so. The exponent is the least-squares slope of log(loop time) against log(patches).
 
 use super::{median, room, BenchArgs};
-use crate::gl::{BackendChoice, GlContext};
+use crate::gl::GlContext;
 use crate::patches::{PatchLayout, Resolution};
 use crate::solver::cpu::CpuSolver;
 use crate::solver::{Backend, GpuSolver, Solver};
@@ -102,30 +102,24 @@ fn one(args: &BenchArgs, spec: &str) -> Result<()> {
 
 /// Run one child and read its figures.
 fn child(args: &BenchArgs, name: &str, scale: u32, solver: &str) -> Result<Run> {
-    let backend = match args.backend {
-        BackendChoice::Auto => "auto",
-        BackendChoice::Egl => "egl",
-        BackendChoice::Osmesa => "osmesa",
-    };
-    let out = std::process::Command::new(std::env::current_exe()?)
-        .args([
-            "bench",
+    let spec = format!("{name},{scale},{solver}");
+    let (budget, threads) = (args.budget.to_string(), args.threads.to_string());
+    let text = super::run_child(
+        args,
+        &[
             "scaling",
             "--one",
-            &format!("{name},{scale},{solver}"),
-        ])
-        .args(["--backend", backend, "--configuration", &args.configuration])
-        .args(["--threshold", &args.threshold.to_string()])
-        .args(["--budget", &args.budget.to_string()])
-        .args(["--threads", &args.threads.to_string()])
-        .stderr(std::process::Stdio::inherit())
-        .output()
-        .context("running a scaling run in a child process")?;
-    let text = String::from_utf8_lossy(&out.stdout);
-    anyhow::ensure!(
-        out.status.success(),
-        "the {solver} run of {name} at {scale}x failed: {text}"
-    );
+            &spec,
+            "--configuration",
+            &args.configuration,
+            "--budget",
+            &budget,
+            "--threads",
+            &threads,
+        ],
+        &[],
+        &format!("the {solver} run of {name} at {scale}x"),
+    )?;
     let line = text.lines().last().unwrap_or("");
     serde_json::from_str(line).with_context(|| format!("reading the child's figures: {text}"))
 }

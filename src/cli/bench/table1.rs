@@ -142,26 +142,20 @@ fn shader_cache_filled(dir: Option<&Path>) -> bool {
 
 /// The cold run: this program in a child process with the shader cache disabled. Returns its
 /// setup's and loop's seconds.
-fn cold_run_in_child(
-    args: &BenchArgs,
-    backend: &str,
-    name: &str,
-    configuration: &str,
-) -> Result<(f64, f64)> {
-    let out = std::process::Command::new(std::env::current_exe()?)
-        .args(["bench", "table1", "--gpu-only", "--scenes", name])
-        .args(["--configuration", configuration])
-        .args(["--backend", backend, "--threshold"])
-        .arg(args.threshold.to_string())
-        .env("MESA_SHADER_CACHE_DISABLE", "true")
-        .stderr(std::process::Stdio::inherit())
-        .output()
-        .context("running the cold-cache GPU run in a child process")?;
-    let text = String::from_utf8_lossy(&out.stdout);
-    anyhow::ensure!(
-        out.status.success(),
-        "the cold-cache GPU run failed: {text}"
-    );
+fn cold_run_in_child(args: &BenchArgs, name: &str, configuration: &str) -> Result<(f64, f64)> {
+    let text = super::run_child(
+        args,
+        &[
+            "table1",
+            "--gpu-only",
+            "--scenes",
+            name,
+            "--configuration",
+            configuration,
+        ],
+        &[("MESA_SHADER_CACHE_DISABLE", "true")],
+        "the cold-cache GPU run",
+    )?;
     let value = |key: &str| {
         text.lines()
             .find_map(|l| l.strip_prefix(key)?.trim().parse::<f64>().ok())
@@ -241,7 +235,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 let t = &mut t[k];
                 if cold_child {
                     bar.set_message(format!("{name}, {c}: GPU, shader cache disabled"));
-                    let (setup, run) = cold_run_in_child(args, info.backend.name(), name, c)?;
+                    let (setup, run) = cold_run_in_child(args, name, c)?;
                     t[4].push(setup);
                     t[5].push(run);
                     bar.inc(1);
