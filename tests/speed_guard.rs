@@ -159,3 +159,52 @@ fn overshooting_converges_to_the_same_solution_in_fewer_shots() {
     );
     assert!(d < 1e-4, "mean patch difference {d}");
 }
+
+/// A small shot draws only the lower-left corner of the item buffer, at its own resolution, and
+/// the pass pictures show what that shot drew: the Cornell box's light (the first shot, most of
+/// the power) at 256² per face, its fifth shot at 64².
+#[test]
+fn small_shots_draw_a_smaller_item_buffer() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args(["solve", "--shooter-cell", "0", "--emitter-cell", "0"])
+        .args(["--small-hemi-res", "64", "--small-shot", "0.5"])
+        .args(["--dump-passes", "1,5", "--max-shots", "5", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for (shot, size) in [(1, (1280, 256)), (5, (320, 64))] {
+        let png = image::open(dir.path().join(format!("shot-{shot:03}-itembuffer.png"))).unwrap();
+        assert_eq!((png.width(), png.height()), size, "shot {shot}");
+        // Something was seen in it (not a stale or empty corner).
+        let seen = png.to_rgb8().pixels().filter(|p| p.0 != [0, 0, 0]).count();
+        assert!(
+            seen > (size.0 * size.1 / 4) as usize,
+            "shot {shot}: {seen} pixels"
+        );
+    }
+    // A resolution above the item buffer's is refused with both named.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args([
+            "solve",
+            "--hemi-res",
+            "64",
+            "--small-hemi-res",
+            "128",
+            "--out",
+        ])
+        .arg(dir.path().join("refused"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("128") && stderr.contains("16..=64"),
+        "{stderr}"
+    );
+}

@@ -102,8 +102,13 @@ impl<'a> PassDumps<'a> {
 
         let mut files = Vec::new();
         let vis = &solver.backend().visibility;
-        let (iw, ih) = (vis.item_buffer.width as u32, vis.item_buffer.height as u32);
-        let ids = vis.read_ids();
+        // Only what this shot drew (a small shot fills the lower-left corner).
+        let full = vis.item_buffer.width as usize;
+        let (iw, ih) = (vis.drawn().0 as u32, vis.drawn().1 as u32);
+        let ids: Vec<Option<u32>> = (vis.read_ids().chunks_exact(full))
+            .take(ih as usize)
+            .flat_map(|row| row[..iw as usize].to_vec())
+            .collect();
         let path = name("itembuffer.png");
         write_rgb(self.set, &path, iw, ih, &item_buffer_rgb(&ids, iw, ih))?;
         files.push(path);

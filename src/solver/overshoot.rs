@@ -2,8 +2,8 @@
 //! Slusallek 1994 analyse as over-relaxation). A polygon that shoots will later receive light
 //! back from the rest of the scene and have to shoot again; the big walls of a room do so dozens
 //! of times. Overshooting sends that future light ahead with the shot: the shooter shoots its
-//! unshot radiance plus ρ·A, the ambient estimate of what it will still receive, and its
-//! patches are left with −ρ·A unshot radiance instead of zero. When the light does arrive it
+//! unshot radiance plus ρ·L_amb, ρ its reflectance and L_amb the ambient estimate of the radiance
+//! still to arrive, and its patches are left with −ρ·L_amb unshot radiance instead of zero. When the light does arrive it
 //! cancels the negative remainder; where the estimate was too high the negative unshot energy is
 //! shot like any other (Find_Max_Energy and the stopping rule count it by its magnitude). The
 //! solution the loop converges to is the same; it gets there in fewer shots.
@@ -61,11 +61,7 @@ impl Overshoot {
     /// The unshot radiance polygon `p`'s shooting patches are left with: minus its reflectance
     /// times the ambient radiance the others' unshot energy (`totals`) will still bring.
     pub fn remainder(&self, totals: &EnergyTotals, p: usize) -> Vec3 {
-        let all = totals
-            .energy
-            .iter()
-            .fold(DVec3::ZERO, |s, e| s + DVec3::from_array(*e));
-        self.remainder_with(all, totals, p).as_vec3()
+        self.remainder_with(sum(totals), totals, p).as_vec3()
     }
 
     /// [`remainder`](Self::remainder), given the sum of every polygon's unshot energy.
@@ -83,10 +79,7 @@ impl Overshoot {
     /// power: a polygon left with its remainder would shoot nothing, and be picked again and
     /// again. `areas[p]`: the area of polygon p's patches. Ties go to the lower ID.
     pub fn find_max_energy(&self, totals: &EnergyTotals, areas: &[f64]) -> Option<usize> {
-        let all = totals
-            .energy
-            .iter()
-            .fold(DVec3::ZERO, |s, e| s + DVec3::from_array(*e));
+        let all = sum(totals);
         let mut best = None;
         let mut most = 0.0;
         for (p, e) in totals.energy.iter().enumerate() {
@@ -99,6 +92,11 @@ impl Overshoot {
         }
         best
     }
+}
+
+/// Every polygon's unshot energy, summed per channel.
+fn sum(totals: &EnergyTotals) -> DVec3 {
+    (totals.energy.iter()).fold(DVec3::ZERO, |s, e| s + DVec3::from_array(*e))
 }
 
 #[cfg(test)]

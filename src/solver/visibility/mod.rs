@@ -50,6 +50,9 @@ pub struct VisibilityPass {
     /// the driver's viewport; 1 on the hemisphere).
     guard: i32,
     near_far: [f32; 2],
+    /// The part of the item buffer the last pass drew (width, height): all of it, or the
+    /// lower-left corner for a shot at a smaller resolution (`Shooter::hemi_res`).
+    drawn: (i32, i32),
     /// Each polygon's bounding sphere (centre, radius), for culling.
     spheres: Vec<(Vec3, f32)>,
     /// The polygons in front of the shooter: (polygon, sphere centre in eye space, radius) (reused).
@@ -173,6 +176,7 @@ impl VisibilityPass {
             tuning,
             guard,
             near_far,
+            drawn: (width, res),
             spheres,
             in_front: Vec::new(),
             indices: Vec::new(),
@@ -308,6 +312,7 @@ impl VisibilityPass {
         // buffer's lower-left corner, and the reconstruction pass looks up only that.
         let r = (shooter.hemi_res as i32).clamp(1, self.resolution);
         let (width, height) = (self.item_buffer.width / self.resolution * r, r);
+        self.drawn = (width, height);
         self.fbo.bind();
         unsafe {
             gl.viewport(0, 0, width, height);
@@ -380,6 +385,12 @@ impl VisibilityPass {
             }
         }
         ctx.check(NAME)
+    }
+
+    /// The part of the item buffer the last pass drew (width, height), from its lower-left
+    /// corner; the rest holds what earlier passes left.
+    pub fn drawn(&self) -> (i32, i32) {
+        self.drawn
     }
 
     /// The item buffer as polygon IDs (`None` where no polygon is seen), rows bottom to top.
