@@ -4,30 +4,36 @@
 
 use std::process::Command;
 
-#[test]
-fn table1_reports_the_rooms_counts_and_both_solvers() {
-    let dir = tempfile::tempdir().unwrap();
-    let json = dir.path().join("table1.json");
+/// Run `radiosity` with `args`, require success, and return (and print) its stdout.
+fn run_ok<'a>(args: impl IntoIterator<Item = &'a std::ffi::OsStr>) -> String {
     let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
-        .args([
-            "bench",
-            "table1",
-            "--scenes",
-            "simple",
-            "--threshold",
-            "0.5",
-            "--json",
-        ])
-        .arg(&json)
+        .args(args)
         .output()
         .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     println!("{stdout}");
+    stdout
+}
+
+#[test]
+fn table1_reports_the_rooms_counts_and_both_solvers() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("table1.json");
+    let stdout = run_ok([
+        "bench".as_ref(),
+        "table1".as_ref(),
+        "--scenes".as_ref(),
+        "simple".as_ref(),
+        "--threshold".as_ref(),
+        "0.5".as_ref(),
+        "--json".as_ref(),
+        json.as_os_str(),
+    ]);
     // Two rows: the paper-faithful configuration and the fast one, timed in the same run.
     for configuration in ["paper-faithful", "fast"] {
         let row = format!("| simple | {configuration} | 1602 | 6431 | 2 | 14445 |");
@@ -137,21 +143,14 @@ fn scaling_reports_each_size_and_solver_with_an_exponent_and_a_plot() {
         dir.path().join("scaling.json"),
         dir.path().join("scaling.png"),
     );
-    let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
-        .args(["bench", "scaling", "--scenes", "simple", "--scales", "1,2"])
-        .args(["--threshold", "0.5", "--budget", "60", "--json"])
-        .arg(&json)
-        .arg("--plot")
-        .arg(&plot)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let stdout = run_ok(
+        ["bench", "scaling", "--scenes", "simple", "--scales", "1,2"]
+            .map(std::ffi::OsStr::new)
+            .into_iter()
+            .chain(["--threshold", "0.5", "--budget", "60"].map(std::ffi::OsStr::new))
+            .chain(["--json".as_ref(), json.as_os_str()])
+            .chain(["--plot".as_ref(), plot.as_os_str()]),
     );
-    println!("{stdout}");
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let runs = report["runs"].as_array().unwrap();
