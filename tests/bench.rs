@@ -2,23 +2,10 @@
 //! beside its own timings (a short stopping rule here: speed is measured by the bench itself,
 //! never by tests).
 
-use std::process::Command;
+mod common;
 
-/// Run `radiosity` with `args`, require success, and return (and print) its stdout.
-fn run_ok<'a>(args: impl IntoIterator<Item = &'a std::ffi::OsStr>) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    println!("{stdout}");
-    stdout
-}
+use common::run_ok;
+use std::process::Command;
 
 #[test]
 fn table1_reports_the_rooms_counts_and_both_solvers() {

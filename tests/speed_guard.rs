@@ -166,18 +166,13 @@ fn overshooting_converges_to_the_same_solution_in_fewer_shots() {
 #[test]
 fn small_shots_draw_a_smaller_item_buffer() {
     let dir = tempfile::tempdir().unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_radiosity"))
-        .args(["solve", "--shooter-cell", "0", "--emitter-cell", "0"])
-        .args(["--small-hemi-res", "64", "--small-shot", "0.5"])
-        .args(["--dump-passes", "1,5", "--max-shots", "5", "--out"])
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let args = ["solve", "--shooter-cell", "0", "--emitter-cell", "0"]
+        .into_iter()
+        .chain(["--small-hemi-res", "64", "--small-shot", "0.5"])
+        .chain(["--dump-passes", "1,5", "--max-shots", "5", "--out"])
+        .map(std::ffi::OsStr::new)
+        .chain([dir.path().as_os_str()]);
+    run_ok(args);
     for (shot, size) in [(1, (1280, 256)), (5, (320, 64))] {
         let png = image::open(dir.path().join(format!("shot-{shot:03}-itembuffer.png"))).unwrap();
         assert_eq!((png.width(), png.height()), size, "shot {shot}");

@@ -23,7 +23,9 @@ pub struct Overshoot {
     reflectance: Vec<Vec3>,
     /// 1 / (1 − ρ̄) per channel, ρ̄ the area-weighted mean reflectance.
     interreflection: DVec3,
-    /// Total area of the polygons that have patches.
+    /// Each polygon's area if it has patches (what its patches' areas add up to), else 0.
+    areas: Vec<f64>,
+    /// Their sum.
     area: f64,
 }
 
@@ -36,13 +38,12 @@ impl Overshoot {
             .iter()
             .map(|p| scene.material(p).kd)
             .collect();
-        let (mut area, mut weighted) = (0.0, DVec3::ZERO);
-        for ((polygon, rho), &n) in scene.polygons.iter().zip(&reflectance).zip(patches) {
-            if n > 0 {
-                area += polygon.area as f64;
-                weighted += rho.as_dvec3() * polygon.area as f64;
-            }
-        }
+        let areas: Vec<f64> = (scene.polygons.iter().zip(patches))
+            .map(|(polygon, &n)| if n > 0 { polygon.area as f64 } else { 0.0 })
+            .collect();
+        let area: f64 = areas.iter().sum();
+        let weighted = (reflectance.iter().zip(&areas))
+            .fold(DVec3::ZERO, |w, (rho, &a)| w + rho.as_dvec3() * a);
         let mean = if area > 0.0 {
             weighted / area
         } else {
@@ -54,6 +55,7 @@ impl Overshoot {
         Overshoot {
             reflectance,
             interreflection,
+            areas,
             area,
         }
     }
@@ -77,13 +79,13 @@ impl Overshoot {
     /// Find_Max_Energy when overshooting: the polygon whose shot would carry the most power,
     /// |unshot − remainder × area| (π·Σ|·| over RGB, averaged), above zero. Not the most unshot
     /// power: a polygon left with its remainder would shoot nothing, and be picked again and
-    /// again. `areas[p]`: the area of polygon p's patches. Ties go to the lower ID.
-    pub fn find_max_energy(&self, totals: &EnergyTotals, areas: &[f64]) -> Option<usize> {
+    /// again. Ties go to the lower ID.
+    pub fn find_max_energy(&self, totals: &EnergyTotals) -> Option<usize> {
         let all = sum(totals);
         let mut best = None;
         let mut most = 0.0;
         for (p, e) in totals.energy.iter().enumerate() {
-            let shot = DVec3::from_array(*e) - self.remainder_with(all, totals, p) * areas[p];
+            let shot = DVec3::from_array(*e) - self.remainder_with(all, totals, p) * self.areas[p];
             let power = std::f64::consts::PI * shot.abs().element_sum() / 3.0;
             if power > most {
                 most = power;

@@ -64,8 +64,6 @@ pub struct Solver<'a, B: Backend> {
     unshot_ceiling: f64,
     /// The ambient estimate, when overshooting (`SolveOptions::overshoot`).
     overshoot: Option<Overshoot>,
-    /// Per polygon, the area of its patches (patches × patch area).
-    patched_area: Vec<f64>,
 }
 
 /// Pass names, as `PassTimes` keys them.
@@ -97,9 +95,6 @@ impl<'a, B: Backend> Solver<'a, B> {
             excess_reported: std::cell::Cell::new(false),
             unshot_ceiling: 0.0,
             overshoot,
-            patched_area: (ledger.patches().iter().enumerate())
-                .map(|(p, &n)| n as f64 * ledger.patch_area(p))
-                .collect(),
             ledger,
         })
     }
@@ -291,7 +286,7 @@ impl<'a, B: Backend> Solver<'a, B> {
     /// would carry the most: `Overshoot::find_max_energy`).
     pub fn next_polygon(&self) -> Option<usize> {
         match &self.overshoot {
-            Some(o) => o.find_max_energy(self.ledger.totals(), &self.patched_area),
+            Some(o) => o.find_max_energy(self.ledger.totals()),
             None => self.ledger.find_max_energy(),
         }
     }

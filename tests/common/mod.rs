@@ -107,3 +107,19 @@ pub fn assert_quoted(what: &str, value: f64, quoted: &str) {
         "{what}: measured {value:e}, which reads {shown} at the docs' precision; they quote {quoted}"
     );
 }
+
+/// Run `radiosity` with `args`, require success, and return (and print) its stdout.
+pub fn run_ok<'a>(args: impl IntoIterator<Item = &'a std::ffi::OsStr>) -> String {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    println!("{stdout}");
+    stdout
+}
