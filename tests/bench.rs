@@ -38,6 +38,7 @@ fn table1_reports_the_rooms_counts_and_both_solvers() {
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(report["rows"].as_array().unwrap().len(), 2);
     assert_eq!(report["fast_options"]["overshoot"], true);
+    assert_eq!(report["fast_options"]["rotate_item_buffer"], true);
     for (k, configuration) in ["paper-faithful", "fast"].iter().enumerate() {
         let row = &report["rows"][k];
         assert_eq!(row["configuration"], *configuration);

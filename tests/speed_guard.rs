@@ -57,7 +57,8 @@ fn no_speed_option_moves_the_simple_room_away_from_the_exhaustive_solution() {
         ("paper-faithful", "1.86", 1352),
         ("overshoot", "1.61", 885),
         ("item buffer by shot", "1.68", 1382),
-        ("fast", "1.47", 896),
+        ("item buffer turned", "1.82", 1360),
+        ("fast", "1.28", 903),
     ];
     for ((name, d_quoted, shots_quoted), &(got, shots, d)) in quoted.iter().zip(&differences) {
         assert_eq!(*name, got);
@@ -202,4 +203,52 @@ fn small_shots_draw_a_smaller_item_buffer() {
         stderr.contains("128") && stderr.contains("16..=64"),
         "{stderr}"
     );
+}
+
+/// `--rotate-item-buffer` turns each shot's item buffer about the shooter's normal by the
+/// golden-ratio sequence of angles: the first shot's turn is zero, so its item buffer is the
+/// unturned one, and the second's is not; stats.json records the option.
+#[test]
+fn the_item_buffer_turns_shot_by_shot() {
+    let dir = tempfile::tempdir().unwrap();
+    let solve = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let args = [
+            "solve",
+            "--shooter-cell",
+            "0",
+            "--emitter-cell",
+            "0",
+            "--hemi-res",
+            "64",
+        ]
+        .into_iter()
+        .chain(extra.iter().copied())
+        .chain(["--dump-passes", "1,2", "--max-shots", "2", "--out"])
+        .map(std::ffi::OsStr::new)
+        .chain([out.as_os_str()]);
+        run_ok(args);
+        out
+    };
+    let (plain, turned) = (
+        solve("plain", &[]),
+        solve("turned", &["--rotate-item-buffer"]),
+    );
+    let picture = |dir: &std::path::Path, shot: u32| {
+        image::open(dir.join(format!("shot-{shot:03}-itembuffer.png")))
+            .unwrap()
+            .to_rgb8()
+    };
+    assert_eq!(picture(&plain, 1), picture(&turned, 1), "shot 1 turns by 0");
+    let (a, b) = (picture(&plain, 2), picture(&turned, 2));
+    let changed = a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count();
+    assert!(
+        changed > (a.width() * a.height() / 20) as usize,
+        "{changed} pixels changed"
+    );
+    let stats = |dir: &std::path::Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.join("stats.json")).unwrap()).unwrap()
+    };
+    assert_eq!(stats(&plain)["rotate_item_buffer"], false);
+    assert_eq!(stats(&turned)["rotate_item_buffer"], true);
 }

@@ -113,6 +113,10 @@ pub struct SolveArgs {
         allow_hyphen_values = true,
     )]
     pub small_shot: f32,
+    /// Beyond the paper, for accuracy: turn each shot's item buffer about the shooter's normal
+    /// by its own angle, so that the aliasing of successive shots averages out.
+    #[arg(long)]
+    pub rotate_item_buffer: bool,
     /// Camera position, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<Vec3>,
@@ -166,6 +170,7 @@ impl SolveArgs {
             overshoot: self.overshoot,
             small_hemi_res: self.small_hemi_res.unwrap_or(0),
             small_shot: self.small_shot,
+            rotate_item_buffer: self.rotate_item_buffer,
         }
     }
 }

@@ -9,7 +9,8 @@
 //! `form_factor.rs` (the CPU twins of the shader's factors). `mesh.rs` builds the vertex data
 //! the passes draw; `tuning.rs` holds every speed trick for llvmpipe, apart from the paper;
 //! `overshoot.rs` the ambient estimate of overshooting, one of the speed options beyond the paper
-//! that change the answer (`SolveOptions::overshoot`, `small_hemi_res`).
+//! that change the answer (`SolveOptions::overshoot`, `small_hemi_res`,
+//! `rotate_item_buffer`).
 
 pub mod cpu;
 pub mod find_max_energy;
@@ -154,6 +155,12 @@ pub struct SolveOptions {
     pub small_hemi_res: u32,
     /// See `small_hemi_res`: a share of the emitted power, 0 to 1.
     pub small_shot: f32,
+    /// Beyond the paper, for accuracy: each shot turns its item buffer about the shooter's
+    /// normal by its own angle ([`turn_of_shot`]), so that the pixel grids of successive shots do
+    /// not line up with the scene's edges, nor with one another: their aliasing averages out
+    /// instead of adding up. The paper (and every shot with this off) orients the item buffer by
+    /// the normal alone.
+    pub rotate_item_buffer: bool,
 }
 
 impl SolveOptions {
@@ -174,6 +181,7 @@ impl SolveOptions {
             overshoot: false,
             small_hemi_res: 0,
             small_shot: 0.0,
+            rotate_item_buffer: false,
         }
     }
 
@@ -199,6 +207,14 @@ impl Default for SolveOptions {
     fn default() -> Self {
         Self::accurate()
     }
+}
+
+/// The item buffer's turn for shot `shot` (0-based) when `SolveOptions::rotate_item_buffer` is
+/// on: the golden-ratio sequence of angles, which spreads any run of successive shots evenly
+/// around the circle, the same in every run (so that solves stay reproducible).
+pub fn turn_of_shot(shot: u32) -> f32 {
+    const GOLDEN: f64 = 0.618_033_988_749_894_8;
+    ((shot as f64 * GOLDEN).fract() * std::f64::consts::TAU) as f32
 }
 
 /// Most corners a shooter's outline may have (a cell clipped to its polygon, or a whole polygon);
@@ -227,12 +243,16 @@ pub struct Shooter {
     pub remainder: Vec3,
     /// Item-buffer side for this shot's visibility pass (per hemicube face).
     pub hemi_res: u32,
+    /// Turn of the item buffer about the normal, radians (`SolveOptions::rotate_item_buffer`;
+    /// 0 in the paper).
+    pub turn: f32,
 }
 
 impl Shooter {
     /// World -> shooter eye space: eye at the shooter, looking down -z along its normal.
     pub fn view(&self) -> Mat4 {
-        let up = self.normal.any_orthonormal_vector();
+        let up = glam::Quat::from_axis_angle(self.normal, self.turn)
+            * self.normal.any_orthonormal_vector();
         Mat4::look_at_rh(self.position, self.position + self.normal, up)
     }
 
@@ -256,4 +276,58 @@ pub struct ShotRecord {
     pub shot_power: f64,
     /// Power the receivers reflect from it (added to their unshot energy).
     pub reflected_power: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn shooter(turn: f32) -> Shooter {
+        Shooter {
+            polygon: 0,
+            texels: [0; 4],
+            position: Vec3::new(1.0, 2.0, 3.0),
+            normal: Vec3::new(0.0, 1.0, 0.0),
+            energy: Vec3::ONE,
+            corners: [Vec3::ZERO; MAX_CORNERS],
+            corner_count: 0,
+            area: 1.0,
+            remainder: Vec3::ZERO,
+            hemi_res: 64,
+            turn,
+        }
+    }
+
+    #[test]
+    fn a_turned_item_buffer_still_looks_along_the_normal_and_turns_by_the_angle() {
+        let (plain, turned) = (shooter(0.0).view(), shooter(0.7).view());
+        let ahead = Vec3::new(1.0, 3.0, 3.0);
+        // Straight ahead is straight ahead either way.
+        for view in [plain, turned] {
+            let d = view.transform_point3(ahead);
+            assert!(d.x.abs() < 1e-6 && d.y.abs() < 1e-6 && (d.z + 1.0).abs() < 1e-6);
+        }
+        // A direction across the normal turns about the view axis by the angle.
+        let side = plain.transform_vector3(Vec3::X);
+        let side_turned = turned.transform_vector3(Vec3::X);
+        let angle = side.truncate().angle_to(side_turned.truncate()).abs();
+        assert!((angle - 0.7).abs() < 1e-5, "{angle}");
+    }
+
+    #[test]
+    fn successive_shots_turn_by_well_spread_angles_the_same_every_run() {
+        assert_eq!(turn_of_shot(0), 0.0);
+        assert_eq!(turn_of_shot(17), turn_of_shot(17));
+        // Any 10 successive shots leave no gap wider than about 2.4 × the even spacing.
+        for start in [0, 100, 5000] {
+            let mut angles: Vec<f32> = (start..start + 10).map(turn_of_shot).collect();
+            angles.sort_by(f32::total_cmp);
+            angles.push(angles[0] + std::f32::consts::TAU);
+            let widest = angles.windows(2).map(|w| w[1] - w[0]).fold(0.0, f32::max);
+            assert!(widest < 2.4 * std::f32::consts::TAU / 10.0, "{widest}");
+            assert!(angles
+                .iter()
+                .all(|a| (0.0..=2.0 * std::f32::consts::TAU).contains(a)));
+        }
+    }
 }

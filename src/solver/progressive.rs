@@ -292,8 +292,8 @@ impl<'a, B: Backend> Solver<'a, B> {
     }
 
     /// The shooters that carry polygon `p`'s unshot energy (see `shooters::shooters_of`), their
-    /// texels in the caller's layout; with their overshoot and item-buffer resolution when the
-    /// options go beyond the paper there.
+    /// texels in the caller's layout; with their overshoot, item-buffer resolution and turn when
+    /// the options go beyond the paper there.
     pub fn shooters_of(&self, p: usize) -> Vec<Shooter> {
         let own = self.backend.layout();
         let mut shooters = shooters::shooters_of(
@@ -318,6 +318,9 @@ impl<'a, B: Backend> Solver<'a, B> {
                 s.remainder = remainder;
             }
             s.hemi_res = self.item_buffer_resolution(s);
+            if self.options.rotate_item_buffer {
+                s.turn = super::turn_of_shot(self.ledger.shots());
+            }
             s.texels = move_rect(s.texels, &own.lightmaps[p], &self.layout.lightmaps[p]);
         }
         shooters

@@ -62,6 +62,7 @@ pub fn shooters_of(
             area,
             remainder: Vec3::ZERO,
             hemi_res: options.hemi_res,
+            turn: 0.0,
         }];
     }
     let width = layout.atlas_width as usize;
@@ -109,6 +110,7 @@ pub fn shooters_of(
             area,
             remainder: Vec3::ZERO,
             hemi_res: options.hemi_res,
+            turn: 0.0,
         })
     };
     // A cell shoots from one point, so everything it sends passes the visibility test of that

@@ -31,6 +31,7 @@ pub fn reference(
         max_shots: 1_000_000,
         overshoot: false,
         small_hemi_res: 0,
+        rotate_item_buffer: false,
         ..options.clone()
     };
     let mut cpu = CpuSolver::new(scene, layout, options, threads)?;

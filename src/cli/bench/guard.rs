@@ -14,6 +14,7 @@ struct Row {
     overshoot: bool,
     small_hemi_res: u32,
     small_shot: f32,
+    rotate_item_buffer: bool,
     gpu_loop_s: f64,
     shots: u32,
     /// A fraction; bound: `guard::MEAN_DIFFERENCE_BOUND`.
@@ -68,6 +69,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             overshoot: options.overshoot,
             small_hemi_res: options.small_hemi_res,
             small_shot: options.small_shot,
+            rotate_item_buffer: options.rotate_item_buffer,
             gpu_loop_s: median(times),
             shots,
             mean_patch_difference: difference,

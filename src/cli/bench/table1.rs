@@ -343,8 +343,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         stopping_rule: format!(
             "unshot power / emitted power <= {}; whole polygons shoot (one pass per shot, as in \
              the paper), polygon form factor, {}² hemicube; fast: the same with overshooting and \
-             the item buffer at {}² for shots over {} of the emitted power, {}² for the others; \
-             median of {} run(s)",
+             the item buffer at {}² for shots over {} of the emitted power, {}² for the others, \
+             turned about the shooter's normal shot by shot; median of {} run(s)",
             args.threshold,
             options.hemi_res,
             super::FAST_HEMI_RES,
