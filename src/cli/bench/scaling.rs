@@ -3,9 +3,13 @@
 //! the paper-faithful configuration (`bench_options`; `--configuration fast` for the other),
 //! each run in a child process of its own so that its peak memory is its own. A run that has
 //! not converged after `--budget` seconds of shots stops there; its loop time is then
-//! extrapolated from its seconds per shot and the shot count of a run of the same room that
-//! did converge (whole polygons shoot, so the shots hardly depend on the patch count), and is
-//! marked so. The exponent is the least-squares slope of log(loop time) against log(patches).
+//! extrapolated, and marked so, from a run of the same room and solver that did converge
+//! (whole polygons shoot, so the shots hardly depend on the patch count): the stopped run has
+//! done the share of its work that the converged run had done after as many shots (their
+//! `progress`). The first shots cost more than the last (they light most of the room), so
+//! seconds per shot times shots would overestimate: 533 s for a run measured at 300 s. Without
+//! such a run, seconds per shot times the shot count of a converged run of the same room. The
+//! exponent is the least-squares slope of log(loop time) against log(patches).
 
 use super::{median, room, BenchArgs};
 use crate::gl::GlContext;
@@ -39,18 +43,42 @@ pub struct Run {
     /// The shot count `loop_to_convergence_s` assumes.
     #[serde(default)]
     pub shots_to_convergence: u32,
+    /// Loop seconds after every [`PROGRESS_STEP`] shots, for extrapolating the runs of the same
+    /// room and solver that the budget stops.
+    #[serde(default)]
+    pub progress: Vec<f64>,
 }
 
-/// Solve until converged or until `budget` seconds of shots have passed.
-fn run_until<B: Backend>(solver: &mut Solver<B>, budget: f64) -> Result<(f64, bool)> {
+/// Shots between two entries of `Run::progress`.
+const PROGRESS_STEP: u32 = 100;
+
+/// Solve until converged or until `budget` seconds of shots have passed: the loop seconds,
+/// whether it converged, and the seconds after every [`PROGRESS_STEP`] shots.
+fn run_until<B: Backend>(solver: &mut Solver<B>, budget: f64) -> Result<(f64, bool, Vec<f64>)> {
     let start = Instant::now();
     solver.restart_clock();
+    let mut progress = Vec::new();
     while start.elapsed().as_secs_f64() < budget {
         if solver.step()?.is_none() {
-            return Ok((start.elapsed().as_secs_f64(), true));
+            return Ok((start.elapsed().as_secs_f64(), true, progress));
+        }
+        if solver.shots().is_multiple_of(PROGRESS_STEP) {
+            progress.push(start.elapsed().as_secs_f64());
         }
     }
-    Ok((start.elapsed().as_secs_f64(), solver.converged()))
+    Ok((start.elapsed().as_secs_f64(), solver.converged(), progress))
+}
+
+/// The seconds `r` (a converged run) had spent after `shots` shots, from its progress
+/// (linear between entries; `None` beyond the last).
+fn seconds_after(r: &Run, shots: u32) -> Option<f64> {
+    let k = shots / PROGRESS_STEP;
+    let before = |k: u32| match k {
+        0 => Some(0.0),
+        k => r.progress.get(k as usize - 1).copied(),
+    };
+    let (a, b) = (before(k)?, before(k + 1)?);
+    Some(a + (b - a) * (shots % PROGRESS_STEP) as f64 / PROGRESS_STEP as f64)
 }
 
 /// The child: one room, scale and solver.
@@ -65,7 +93,7 @@ fn one(args: &BenchArgs, spec: &str) -> Result<()> {
     let options = super::table1::configuration(&args.configuration, args.threshold);
     let budget = args.budget as f64;
     let start = Instant::now();
-    let (setup_s, (loop_s, complete), shots, times) = match solver {
+    let (setup_s, (loop_s, complete, progress), shots, times) = match solver {
         "gpu" => {
             use glow::HasContext;
             let ctx = GlContext::headless(args.backend)?;
@@ -95,9 +123,42 @@ fn one(args: &BenchArgs, spec: &str) -> Result<()> {
         passes: times.iter().map(|(k, v)| (k.to_string(), v)).collect(),
         loop_to_convergence_s: 0.0,
         shots_to_convergence: 0,
+        progress,
     };
     println!("{}", serde_json::to_string(&run)?);
     Ok(())
+}
+
+/// Fill in every run's `loop_to_convergence_s` and `shots_to_convergence`: its own for the runs
+/// that converged; for those the budget stopped, by the share of its work the largest converged
+/// run of the same room and solver had done after as many shots (see the module comment), and
+/// failing that, by seconds per shot and the median shot count of the room's converged runs.
+fn extrapolate(runs: &mut [Run]) {
+    for k in 0..runs.len() {
+        let r = &runs[k];
+        let known: Vec<f64> = runs
+            .iter()
+            .filter(|c| c.room == r.room && c.complete)
+            .map(|c| c.shots as f64)
+            .collect();
+        let share = runs
+            .iter()
+            .filter(|c| c.room == r.room && c.solver == r.solver && c.complete)
+            .max_by_key(|c| c.patches)
+            .and_then(|c| Some((seconds_after(c, r.shots)? / c.loop_s, c.shots)));
+        let r = &mut runs[k];
+        if r.complete {
+            r.loop_to_convergence_s = r.loop_s;
+            r.shots_to_convergence = r.shots;
+        } else if let Some((share, shots)) = share.filter(|&(share, _)| share > 0.0) {
+            r.loop_to_convergence_s = r.loop_s / share;
+            r.shots_to_convergence = shots;
+        } else if !known.is_empty() && r.shots > 0 {
+            let shots = median(known).round() as u32;
+            r.loop_to_convergence_s = r.loop_s / r.shots as f64 * shots as f64;
+            r.shots_to_convergence = shots;
+        }
+    }
 }
 
 /// Run one child and read its figures.
@@ -217,24 +278,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         }
         rooms
     });
-    // Extrapolate the runs the budget stopped: shots to convergence from the converged runs of
-    // the same room (the median of their counts).
-    for k in 0..runs.len() {
-        let known: Vec<f64> = runs
-            .iter()
-            .filter(|r| r.room == runs[k].room && r.complete)
-            .map(|r| r.shots as f64)
-            .collect();
-        let r = &mut runs[k];
-        if r.complete {
-            r.loop_to_convergence_s = r.loop_s;
-            r.shots_to_convergence = r.shots;
-        } else if !known.is_empty() && r.shots > 0 {
-            let shots = median(known).round() as u32;
-            r.loop_to_convergence_s = r.loop_s / r.shots as f64 * shots as f64;
-            r.shots_to_convergence = shots;
-        }
-    }
+    extrapolate(&mut runs);
     let mut exponents = Vec::new();
     for name in &rooms {
         for solver in ["gpu", "cpu"] {
@@ -322,5 +366,46 @@ mod tests {
             .collect();
         assert!((exponent(&points).unwrap() - 1.5).abs() < 1e-9);
         assert_eq!(exponent(&points[..1]), None);
+    }
+
+    fn run(solver: &str, patches: u64, loop_s: f64, shots: u32, progress: Vec<f64>) -> Run {
+        Run {
+            room: "room".into(),
+            scale: 1,
+            solver: solver.into(),
+            patches,
+            setup_s: 0.0,
+            loop_s,
+            shots,
+            complete: !progress.is_empty(),
+            peak_mib: 0.0,
+            passes: Vec::new(),
+            loop_to_convergence_s: 0.0,
+            shots_to_convergence: 0,
+            progress,
+        }
+    }
+
+    #[test]
+    fn a_stopped_run_is_extrapolated_by_the_share_of_work_a_converged_one_had_done() {
+        // A converged run of 400 shots whose first shots cost most: half its 10 s after 100.
+        let converged = run("cpu", 100, 10.0, 400, vec![5.0, 7.0, 8.5, 10.0]);
+        assert_eq!(seconds_after(&converged, 150), Some(6.0));
+        assert_eq!(seconds_after(&converged, 0), Some(0.0));
+        assert_eq!(seconds_after(&converged, 450), None);
+        // A larger run stopped after 150 shots and 30 s: 60 % of the work, 50 s in all (seconds
+        // per shot would say 80 s). The GPU's stopped run has no converged GPU run to follow:
+        // seconds per shot times the room's converged shot count.
+        let mut runs = vec![
+            converged,
+            run("cpu", 400, 30.0, 150, Vec::new()),
+            run("gpu", 400, 3.0, 150, Vec::new()),
+        ];
+        runs[2].complete = false;
+        extrapolate(&mut runs);
+        assert_eq!(runs[0].loop_to_convergence_s, 10.0);
+        assert!((runs[1].loop_to_convergence_s - 50.0).abs() < 1e-9);
+        assert_eq!(runs[1].shots_to_convergence, 400);
+        assert!((runs[2].loop_to_convergence_s - 8.0).abs() < 1e-9);
     }
 }
