@@ -401,7 +401,6 @@ mod tests {
             run("cpu", 400, 30.0, 150, Vec::new()),
             run("gpu", 400, 3.0, 150, Vec::new()),
         ];
-        runs[2].complete = false;
         extrapolate(&mut runs);
         assert_eq!(runs[0].loop_to_convergence_s, 10.0);
         assert!((runs[1].loop_to_convergence_s - 50.0).abs() < 1e-9);
