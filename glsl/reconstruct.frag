@@ -7,35 +7,45 @@
 // the textures with glCopyTexSubImage2D, ready for the next shot. The shooter's own texels get
 // unshot radiance zero ("the shooter's lightmap energy is cleared"), or, when overshooting
 // (beyond the paper), ShooterRemainder.
+//
+// SHOOTERS (defined by the host; 1 in the paper): how many shooters this pass serves
+// (`SolveOptions::shooters_per_pass`, beyond the paper). Every shooter uniform is an array with
+// one element per shooter, each shooter has its own item buffer, and a patch adds up what every
+// shooter sends it.
+#ifndef SHOOTERS
+#define SHOOTERS 1
+#endif
 
 uniform sampler2D PatchPosition;   // per patch: world position, polygon ID + 1 (0: no patch)
 uniform sampler2D PatchNormal;
 uniform sampler2D PatchReflectance;
 uniform sampler2D LightmapRadiosity; // the lightmaps as the last glCopyTexSubImage2D left them
 uniform sampler2D LightmapUnshot;
-uniform ivec4 ShooterTexels;       // [x0, y0, x1, y1): the texels that shoot now (unshot -> 0)
-uniform vec3 ShooterRemainder;     // their patches' unshot radiance after the shot: 0, or minus
-                                   // the overshoot
+uniform ivec4 ShooterTexels[SHOOTERS];   // [x0, y0, x1, y1): the texels that shoot now
+uniform vec3 ShooterRemainder[SHOOTERS]; // their patches' unshot radiance after the shot: 0, or
+                                         // minus the overshoot
 
 // This fragment's patch, read from the atlas textures (see patchdata.frag) at the start of main.
 vec3 RecvPos = vec3(0.0);
 vec3 RecvNormal = vec3(0.0, 0.0, 1.0);
 vec3 RecvColor = vec3(0.0);
 float RecvId = -1.0;
+bool RecvPatch = false;            // false: a texel that is no patch
 
-uniform sampler2D HemiItemBuffer;  // visibility pass result (RGBA8 IDs)
-uniform int HemiRes;               // this shot's resolution: the item buffer's lower-left
+uniform sampler2D HemiItemBuffer[SHOOTERS]; // visibility pass results (RGBA8 IDs)
+uniform int HemiRes[SHOOTERS];     // each shot's resolution: its item buffer's lower-left
                                    // (5 x) HemiRes x HemiRes pixels
-uniform mat4 ShooterView;
-uniform vec3 ShootPos;
-uniform vec3 ShootNormal;
-uniform vec3 ShootEnergy;          // unshot radiance x area of the shooter, RGB
-uniform float ShooterId;
+uniform mat4 ShooterView[SHOOTERS];
+uniform vec3 ShootPos[SHOOTERS];
+uniform vec3 ShootNormal[SHOOTERS];
+uniform vec3 ShootEnergy[SHOOTERS]; // unshot radiance x area of the shooter, RGB
+uniform float ShooterId[SHOOTERS];
 
 uniform int FormFactorKind;        // 0: point (paper), 1: polygon (exact, finite)
-uniform vec3 ShootCorners[12];     // the shooter's outline, counter-clockwise from its front
-uniform int ShootCornerCount;
-uniform float ShootArea;           // area of that outline
+uniform vec3 ShootCorners[12 * SHOOTERS]; // each shooter's outline, counter-clockwise from its
+                                          // front: 12 slots per shooter
+uniform int ShootCornerCount[SHOOTERS];
+uniform float ShootArea[SHOOTERS]; // area of that outline
 
 uniform int HemiCube;              // 0: hemispherical projection (paper), 1: hemicube
 uniform int Robust;                // 0: nearest pixel's ID (paper); 1: ID, or the shown plane
@@ -44,15 +54,28 @@ uniform int PlanesWidth;           // a power of two (llvmpipe divides integers 
 uniform int PlanesShift;           // log2(PlanesWidth)
 uniform float PlaneSlack;          // world units: how far beyond a plane counts as behind it
 
+// EACH_SHOOTER(X) expands X(0) ... X(SHOOTERS - 1): the shooters unrolled by hand, so that every
+// uniform array index is a constant (GLSL 1.30 indexes sampler arrays with constants only, and
+// llvmpipe fetches other arrays indexed at run time lane by lane).
+#if SHOOTERS == 1
+#define EACH_SHOOTER(X) X(0)
+#elif SHOOTERS == 2
+#define EACH_SHOOTER(X) X(0) X(1)
+#elif SHOOTERS == 3
+#define EACH_SHOOTER(X) X(0) X(1) X(2)
+#else
+#define EACH_SHOOTER(X) X(0) X(1) X(2) X(3)
+#endif
+
 out vec4 NewRadiosity;
 out vec4 NewUnshot;
 
 const float pi = 3.1415926535897932;
 
-// The item-buffer texel the direction d (shooter eye space, d.z < 0) lands in.
-ivec2 item_texel(vec3 d)
+// The item-buffer texel the direction d (shooter k's eye space, d.z < 0) lands in.
+ivec2 item_texel(vec3 d, int k)
 {
-    ivec2 size = ivec2(HemiRes);
+    ivec2 size = ivec2(HemiRes[k]);
     if (HemiCube == 0) {
         // The paper: project onto the hemisphere, flatten onto its base disk.
         vec2 uv = normalize(d).xy * 0.5 + 0.5;
@@ -72,19 +95,19 @@ ivec2 item_texel(vec3 d)
     float sy = side_y ? sign(d.y) : 1.0;
     vec3 f = front ? vec3(d.x, d.y, -d.z)
                    : side_x ? vec3(sx * d.z, d.y, sx * d.x) : vec3(sy * d.x, d.z, sy * d.y);
-    int r = HemiRes;
+    int r = HemiRes[k];
     // Inside this face's own pixels: at u = 1 the nearest pixel would be the next face's first.
     ivec2 t = clamp(ivec2(((f.xy / f.z) * 0.5 + 0.5) * float(r)), ivec2(0), ivec2(r - 1));
     return ivec2(int(face) * r + t.x, t.y);
 }
 
-// Code 1: is this fragment what the shooter sees in its direction?
-bool Visible()
+// Code 1: is this fragment what shooter k sees in its direction (in its item buffer `items`)?
+bool Visible(int k, sampler2D items)
 {
-    vec3 d = (ShooterView * vec4(RecvPos, 1.0)).xyz;
+    vec3 d = (ShooterView[k] * vec4(RecvPos, 1.0)).xyz;
     if (d.z >= 0.0)
         return false;
-    ivec3 shown = ivec3(texelFetch(HemiItemBuffer, item_texel(d), 0).rgb * 255.0 + 0.5);
+    ivec3 shown = ivec3(texelFetch(items, item_texel(d, k), 0).rgb * 255.0 + 0.5);
     int n = shown.r + 256 * shown.g + 65536 * shown.b;  // ID + 1; 0: nothing
     if (n == int(RecvId + 0.5) + 1)
         return true;
@@ -99,7 +122,7 @@ bool Visible()
     if (n == 0)
         return true;
     vec4 plane = texelFetch(PolygonPlanes, ivec2((n - 1) & (PlanesWidth - 1), (n - 1) >> PlanesShift), 0);
-    float hs = dot(plane.xyz, ShootPos) - plane.w;
+    float hs = dot(plane.xyz, ShootPos[k]) - plane.w;
     float hr = dot(plane.xyz, RecvPos) - plane.w;
     return !(abs(hs) > PlaneSlack && abs(hr) > PlaneSlack && (hs > 0.0) != (hr > 0.0));
 }
@@ -132,24 +155,25 @@ float EdgeTerm(vec3 a, vec3 b)
 // dynamically indexed local array to memory; this way each edge costs one EdgeTerm.
 // CORNERS (defined by the host for quadrilateral shooters, the rooms' usual case): the corner
 // count is known when compiling, so the loops unroll and every corner is a uniform read once;
-// with a count known only at run time llvmpipe fetches ShootCorners[k] lane by lane.
+// with a count known only at run time llvmpipe fetches ShootCorners[i] lane by lane.
 #ifndef CORNERS
 #define CORNERS 0
 #endif
 #if CORNERS
 #define CORNER_COUNT CORNERS
 #else
-#define CORNER_COUNT ShootCornerCount
+#define CORNER_COUNT ShootCornerCount[k]
 #endif
-float PolygonFormFactor()
+float PolygonFormFactor(int k)
 {
-    if (dot(ShootNormal, RecvPos - ShootCorners[0]) <= 0.0)
+    int c0 = 12 * k;   // shooter k's first corner
+    if (dot(ShootNormal[k], RecvPos - ShootCorners[c0]) <= 0.0)
         return 0.0;
-    vec3 a = ShootCorners[CORNER_COUNT - 1] - RecvPos;
+    vec3 a = ShootCorners[c0 + CORNER_COUNT - 1] - RecvPos;
     float sum = 0.0;
 #if SHOOTER_ABOVE
-    for (int k = 0; k < CORNER_COUNT; ++k) {
-        vec3 b = ShootCorners[k] - RecvPos;
+    for (int i = 0; i < CORNER_COUNT; ++i) {
+        vec3 b = ShootCorners[c0 + i] - RecvPos;
         sum += EdgeTerm(a, b);
         a = b;
     }
@@ -157,8 +181,8 @@ float PolygonFormFactor()
     float da = dot(a, RecvNormal);
     vec3 exit_point = vec3(0.0);   // both stay zero when nothing is clipped: a null closing edge
     vec3 entry_point = vec3(0.0);
-    for (int k = 0; k < CORNER_COUNT; ++k) {
-        vec3 b = ShootCorners[k] - RecvPos;
+    for (int i = 0; i < CORNER_COUNT; ++i) {
+        vec3 b = ShootCorners[c0 + i] - RecvPos;
         float db = dot(b, RecvNormal);
         bool above_a = da > 0.0;
         bool crossing = above_a != (db > 0.0);
@@ -175,23 +199,23 @@ float PolygonFormFactor()
     return min(abs(sum) / (2.0 * pi), 1.0);
 }
 
-// Code 2: form factor and received energy (for a visible receiver).
-vec3 FormFactorEnergy()
+// Code 2: form factor and received energy from shooter k (for a visible receiver).
+vec3 FormFactorEnergy(int k)
 {
     float F;
     if (FormFactorKind == 1) {
-        F = PolygonFormFactor() / ShootArea;
+        F = PolygonFormFactor(k) / ShootArea[k];
     } else {
-        vec3 r = ShootPos - RecvPos;
+        vec3 r = ShootPos[k] - RecvPos;
         float distance = dot(r, r);
         r = normalize(r);
         // Each cosine clamped on its own (the paper clamps the product, which lets a receiver
         // behind the shooter and facing away from it through: two negative cosines).
         float cosi = max(dot(RecvNormal, r), 0.0);
-        float cosj = max(-dot(ShootNormal, r), 0.0);
+        float cosj = max(-dot(ShootNormal[k], r), 0.0);
         F = cosi * cosj / (pi * distance);
     }
-    return ShootEnergy * RecvColor * max(F, 0.0);
+    return ShootEnergy[k] * RecvColor * max(F, 0.0);
 }
 
 // MARK (defined by the host for a program of its own; see `Tuning::marking_pass`): the marking
@@ -209,11 +233,34 @@ vec3 FormFactorEnergy()
 #define MARKED 0
 #endif
 
-// Does this patch receive from the shooter? Not a texel without a patch, not the shooter's own
+// Does this patch receive from shooter k? Not a texel without a patch, not the shooter's own
 // polygon (a plane sends nothing to itself), and visible from the shooter.
-bool Receives(float patch)
+bool Receives(int k, sampler2D items)
 {
-    return patch != 0.0 && RecvId != ShooterId && Visible();
+    return RecvPatch && RecvId != ShooterId[k] && Visible(k, items);
+}
+
+// ΔL from shooter k.
+vec3 Received(int k, sampler2D items)
+{
+#if MARKED && SHOOTERS == 1
+    // The marking pass found this texel visible (or shooting): no second visibility test.
+    bool seen = RecvPatch && RecvId != ShooterId[k];
+#else
+    // With several shooters the marking pass found that one of them sees it, not which one.
+    bool seen = Receives(k, items);
+#endif
+    return seen ? FormFactorEnergy(k) : vec3(0.0);
+}
+
+// Does this texel shoot now, as one of shooter k's? Then its patch keeps that shooter's remainder.
+bool Shooting = false;
+vec3 Remainder = vec3(0.0);
+void ShootsFrom(ivec2 texel, int k)
+{
+    bool s = all(greaterThanEqual(texel, ShooterTexels[k].xy)) && all(lessThan(texel, ShooterTexels[k].zw));
+    Shooting = Shooting || s;
+    Remainder = s ? ShooterRemainder[k] : Remainder;
 }
 
 void main()
@@ -222,26 +269,30 @@ void main()
     vec4 position = texelFetch(PatchPosition, texel, 0);
     RecvPos = position.xyz;
     RecvId = position.w - 1.0;
-    bool shooting = all(greaterThanEqual(texel, ShooterTexels.xy)) && all(lessThan(texel, ShooterTexels.zw));
+    RecvPatch = position.w != 0.0;
+#define SHOOTS_FROM(k) ShootsFrom(texel, k);
+    EACH_SHOOTER(SHOOTS_FROM)
 #if MARK
-    if (!shooting && !Receives(position.w))
+#define OR_RECEIVES(k) || Receives(k, HemiItemBuffer[k])
+    if (!(Shooting EACH_SHOOTER(OR_RECEIVES)))
         discard;
 #else
     RecvNormal = texelFetch(PatchNormal, texel, 0).xyz;
     RecvColor = texelFetch(PatchReflectance, texel, 0).rgb;
+    vec3 delta = vec3(0.0);
+#define ADD_RECEIVED(k) delta += Received(k, HemiItemBuffer[k]);
+    EACH_SHOOTER(ADD_RECEIVED)
 #if MARKED
-    // The marking pass found this texel visible (or shooting): no second visibility test.
-    vec3 delta = RecvId == ShooterId ? vec3(0.0) : FormFactorEnergy();
-    if (!shooting && all(equal(delta, vec3(0.0))))
+    if (!Shooting && all(equal(delta, vec3(0.0))))
         discard;   // adds nothing: the renderbuffers keep the last copy's value
-#else
-    vec3 delta = Receives(position.w) ? FormFactorEnergy() : vec3(0.0);
 #endif
-    // GL_ADD: the lightmap texel plus the new energy (alpha, the polygon ID + 1, kept).
+    // GL_ADD: the lightmap texel plus the new energy (alpha, the polygon ID + 1, kept). A
+    // shooting texel starts from its remainder instead, and keeps what the pass's other shooters
+    // send it (its own polygon sends it nothing).
     vec4 radiosity = texelFetch(LightmapRadiosity, texel, 0);
     vec4 unshot = texelFetch(LightmapUnshot, texel, 0);
     NewRadiosity = vec4(radiosity.rgb + delta, radiosity.a);
-    vec3 left = position.w != 0.0 ? ShooterRemainder : vec3(0.0);
-    NewUnshot = vec4(shooting ? left : unshot.rgb + delta, unshot.a);
+    vec3 left = RecvPatch ? Remainder : vec3(0.0);
+    NewUnshot = vec4((Shooting ? left : unshot.rgb) + delta, unshot.a);
 #endif
 }

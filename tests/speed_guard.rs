@@ -58,7 +58,8 @@ fn no_speed_option_moves_the_simple_room_away_from_the_exhaustive_solution() {
         ("overshoot", "1.61", 885),
         ("item buffer by shot", "1.68", 1382),
         ("item buffer turned", "1.82", 1360),
-        ("fast", "1.28", 903),
+        ("shooters per pass", "1.86", 1352),
+        ("fast", "1.31", 903),
     ];
     for ((name, d_quoted, shots_quoted), &(got, shots, d)) in quoted.iter().zip(&differences) {
         assert_eq!(*name, got);
@@ -251,4 +252,105 @@ fn the_item_buffer_turns_shot_by_shot() {
     };
     assert_eq!(stats(&plain)["rotate_item_buffer"], false);
     assert_eq!(stats(&turned)["rotate_item_buffer"], true);
+}
+
+/// Several shooters per pass (`--shooters-per-pass`) shoot simultaneously: from one state, a
+/// pass of the two polygons with the most unshot power adds to every patch what each of them
+/// alone would add, and leaves each shooter's texels with what the other sends them (their own
+/// unshot energy shot). On both solvers; one step counts two shots and one pass.
+#[test]
+fn the_shooters_of_one_pass_shoot_simultaneously() {
+    use gpu_radiosity::patches::{PatchLayout, Resolution};
+    use gpu_radiosity::solver::cpu::CpuSolver;
+    use gpu_radiosity::solver::{Backend, SolveOptions, Solver};
+    let scene = load("cornell");
+    let layout = PatchLayout::new(&scene, Resolution::Patches(600));
+    let options = |k: u32| SolveOptions {
+        shooter_cell: 0,
+        emitter_cell: 0,
+        shooters_per_pass: k,
+        ..SolveOptions::accurate()
+    };
+    // The light's shot first, so that several polygons have power; then the state S.
+    let start = {
+        let mut cpu = CpuSolver::new(&scene, &layout, options(1), 0).unwrap();
+        cpu.step().unwrap();
+        (cpu.radiosity_atlas(), cpu.unshot_atlas())
+    };
+    // From S: the two shooters together, and each alone.
+    fn from<B: Backend>(
+        solver: &mut Solver<'_, B>,
+        start: &(Vec<f32>, Vec<f32>),
+        alone: Option<usize>,
+    ) -> (Vec<f32>, Vec<f32>, Vec<usize>) {
+        solver.load_atlases(&start.0, &start.1).unwrap();
+        let top = solver.next_polygons(2);
+        match alone {
+            Some(i) => {
+                let shooters = solver.shooters_of(top[i]);
+                solver.shoot(&shooters).unwrap();
+            }
+            None => {
+                let (shots, passes) = (solver.shots(), solver.passes());
+                solver.step().unwrap();
+                assert_eq!((solver.shots(), solver.passes()), (shots + 2, passes + 1));
+            }
+        }
+        (solver.radiosity_atlas(), solver.unshot_atlas(), top)
+    }
+    let check = |name: &str,
+                 joint: (Vec<f32>, Vec<f32>, Vec<usize>),
+                 a: (Vec<f32>, Vec<f32>, Vec<usize>),
+                 b: (Vec<f32>, Vec<f32>, Vec<usize>)| {
+        let top = joint.2.clone();
+        assert_eq!(top.len(), 2, "{name}");
+        assert!(top[0] != top[1]);
+        let rects = [
+            layout.lightmaps[top[0]].texels(),
+            layout.lightmaps[top[1]].texels(),
+        ];
+        let width = layout.atlas_width as usize;
+        let inside = |[x0, y0, x1, y1]: [u32; 4], t: usize| {
+            let (x, y) = ((t % width) as u32, (t / width) as u32);
+            (x0..x1).contains(&x) && (y0..y1).contains(&y)
+        };
+        let (mut worst, mut received) = (0f32, 0usize);
+        for t in 0..layout.atlas_width as usize * layout.atlas_height as usize {
+            for c in 0..3 {
+                let i = t * 4 + c;
+                let (da, db) = (a.0[i] - start.0[i], b.0[i] - start.0[i]);
+                received += (da > 0.0 && db > 0.0) as usize;
+                let radiosity = start.0[i] + da + db;
+                // A shooter's texels: what the other sends them; the others: both add.
+                let unshot = if inside(rects[0], t) {
+                    db
+                } else if inside(rects[1], t) {
+                    da
+                } else {
+                    start.1[i] + da + db
+                };
+                for (got, want) in [(joint.0[i], radiosity), (joint.1[i], unshot)] {
+                    worst = worst.max((got - want).abs() / want.abs().max(1e-3));
+                }
+            }
+        }
+        println!("{name}: polygons {top:?}, {received} channels received from both, worst relative difference {worst:.2e}");
+        assert!(received > 100, "{name}: {received}");
+        assert!(worst < 1e-4, "{name}: {worst}");
+    };
+    let cpu = |k| CpuSolver::new(&scene, &layout, options(k), 0).unwrap();
+    check(
+        "CPU",
+        from(&mut cpu(2), &start, None),
+        from(&mut cpu(1), &start, Some(0)),
+        from(&mut cpu(1), &start, Some(1)),
+    );
+    let (_lock, ctx) = serial_context();
+    let gpu = |k| GpuSolver::new(&ctx, &scene, &layout, options(k)).unwrap();
+    check(
+        "GPU",
+        from(&mut gpu(2), &start, None),
+        from(&mut gpu(1), &start, Some(0)),
+        from(&mut gpu(1), &start, Some(1)),
+    );
 }

@@ -117,6 +117,10 @@ pub struct SolveArgs {
     /// by its own angle, so that the aliasing of successive shots averages out.
     #[arg(long)]
     pub rotate_item_buffer: bool,
+    /// Beyond the paper, for cheaper shots: each step shoots the K polygons with the most unshot
+    /// power (1 to 4), each with its own item buffer, through one reconstruction pass.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=crate::solver::MAX_SHOOTERS_PER_PASS as i64))]
+    pub shooters_per_pass: u32,
     /// Camera position, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<Vec3>,
@@ -171,6 +175,7 @@ impl SolveArgs {
             small_hemi_res: self.small_hemi_res.unwrap_or(0),
             small_shot: self.small_shot,
             rotate_item_buffer: self.rotate_item_buffer,
+            shooters_per_pass: self.shooters_per_pass,
         }
     }
 }
@@ -387,6 +392,7 @@ pub(crate) fn with_flags(e: SolveError) -> anyhow::Error {
         }
         SolveError::HemiRes { .. } => Some("--hemi-res"),
         SolveError::Tessellation(_) => Some("--tessellate"),
+        SolveError::ShootersPerPass(_) => Some("--shooters-per-pass / --hemi-res"),
         SolveError::Threads { .. } => Some("--threads"),
         _ => None,
     };

@@ -156,6 +156,21 @@ impl Program {
                 .uniform_4_i32(self.location(name).as_ref(), v[0], v[1], v[2], v[3])
         }
     }
+    pub fn set_i32_array(&self, name: &'static str, v: &[i32]) {
+        unsafe { self.gl.uniform_1_i32_slice(self.location(name).as_ref(), v) }
+    }
+    pub fn set_f32_array(&self, name: &'static str, v: &[f32]) {
+        unsafe { self.gl.uniform_1_f32_slice(self.location(name).as_ref(), v) }
+    }
+    pub fn set_ivec4_array(&self, name: &'static str, v: &[i32]) {
+        unsafe { self.gl.uniform_4_i32_slice(self.location(name).as_ref(), v) }
+    }
+    pub fn set_mat4_array(&self, name: &'static str, m: &[f32]) {
+        unsafe {
+            self.gl
+                .uniform_matrix_4_f32_slice(self.location(name).as_ref(), false, m)
+        }
+    }
     pub fn set_vec3_array(&self, name: &'static str, v: &[f32]) {
         unsafe { self.gl.uniform_3_f32_slice(self.location(name).as_ref(), v) }
     }

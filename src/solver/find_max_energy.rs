@@ -100,22 +100,41 @@ impl EnergyTotals {
     /// [`magnitude`](Self::magnitude)) above `floor`, or `None`. Ties go to the lower ID, so the
     /// choice is deterministic.
     pub fn find_max_energy(&self, floor: f64) -> Option<usize> {
-        let mut best = None;
-        let mut energy = floor;
-        for p in 0..self.energy.len() {
-            let f = self.magnitude(p);
-            if f > energy {
-                energy = f;
-                best = Some(p);
-            }
-        }
-        best
+        self.find_max_energies(floor, 1).first().copied()
+    }
+
+    /// The `count` polygons with the most unshot power above `floor`, most first (for several
+    /// shooters per pass, beyond the paper).
+    pub fn find_max_energies(&self, floor: f64, count: usize) -> Vec<usize> {
+        largest(self.energy.len(), count, floor, |p| self.magnitude(p))
     }
 
     pub fn energy_rgb(&self, p: usize) -> Vec3 {
         let e = self.energy[p];
         Vec3::new(e[0] as f32, e[1] as f32, e[2] as f32)
     }
+}
+
+/// The `count` indices below `n` with the largest `score` above `floor`, largest first; ties go
+/// to the lower index. A scan per pick: `count` is a handful.
+pub fn largest(n: usize, count: usize, floor: f64, score: impl Fn(usize) -> f64) -> Vec<usize> {
+    let mut picked: Vec<usize> = Vec::with_capacity(count);
+    while picked.len() < count {
+        let mut best = None;
+        let mut most = floor;
+        for p in 0..n {
+            let f = score(p);
+            if f > most && !picked.contains(&p) {
+                most = f;
+                best = Some(p);
+            }
+        }
+        match best {
+            Some(p) => picked.push(p),
+            None => break,
+        }
+    }
+    picked
 }
 
 #[cfg(test)]

@@ -85,18 +85,24 @@ impl<'a> GpuBackend<'a> {
                 full: options.hemi_res,
             });
         }
+        let k = options.shooters_per_pass;
+        if !(1..=super::MAX_SHOOTERS_PER_PASS).contains(&k) {
+            return Err(SolveError::ShootersPerPass(k));
+        }
         if !(options.tessellation >= 0.0 && options.tessellation.is_finite()) {
             return Err(SolveError::Tessellation(options.tessellation));
         }
         let gl = &ctx.gl;
         let mesh = mesh::upload(gl, &mesh::vertex_data(scene, layout))?;
         let n = scene.polygons.len();
-        let mut visibility = VisibilityPass::new(
+        // One item buffer per shooter of a reconstruction pass.
+        let mut visibility = VisibilityPass::with_slots(
             ctx,
             options.visibility,
             options.hemi_res,
             options.tuning,
             scene,
+            options.shooters_per_pass,
         )?;
         let data = if options.tessellation > 0.0 {
             let size = options.tessellation * layout.patch_size;
@@ -108,7 +114,8 @@ impl<'a> GpuBackend<'a> {
             mesh::vertex_data(scene, layout)
         };
         let visibility_mesh = mesh::upload_scene(gl, &data, n)?;
-        let reconstruction = ReconstructionPass::new(ctx, scene, layout)?;
+        let reconstruction =
+            ReconstructionPass::new(ctx, scene, layout, options.shooters_per_pass)?;
         let lightmaps = Lightmaps::new(ctx, w as i32, h as i32)?;
 
         // Initialise: every patch's unshot energy is its emission (3.2: "initialise E").
@@ -139,18 +146,18 @@ impl Backend for GpuBackend<'_> {
         &self.unshot
     }
 
-    fn visibility(&mut self, shooter: &Shooter) -> Result<(), SolveError> {
+    fn visibility(&mut self, shooter: &Shooter, slot: usize) -> Result<(), SolveError> {
         Ok(self
             .visibility
-            .run(self.ctx, &self.visibility_mesh, shooter)?)
+            .run_in_slot(self.ctx, &self.visibility_mesh, shooter, slot)?)
     }
 
-    fn reconstruction(&mut self, shooter: &Shooter) -> Result<(), SolveError> {
+    fn reconstruction(&mut self, shooters: &[Shooter]) -> Result<(), SolveError> {
         self.reconstruction.run(
             self.ctx,
             &self.visibility,
             &self.lightmaps,
-            shooter,
+            shooters,
             &self.options,
         )?;
         self.touched.extend_from_slice(&self.reconstruction.touched);

@@ -88,9 +88,10 @@ impl Ledger {
         })
     }
 
-    /// Find_Max_Energy: the polygon with the most unshot power, if any has some.
-    pub fn find_max_energy(&self) -> Option<usize> {
-        self.totals.find_max_energy(0.0)
+    /// Find_Max_Energy: the `count` polygons with the most unshot power (the paper: one), most
+    /// first, of those that have some.
+    pub fn find_max_energy(&self, count: usize) -> Vec<usize> {
+        self.totals.find_max_energies(0.0, count)
     }
 
     /// Unshot power / emitted power, counting negative unshot energy (left by overshooting) as
@@ -130,10 +131,17 @@ impl Ledger {
         self.passes += 1;
     }
 
-    /// Close a shot of `polygon` that shot `shot_power`, the unshot power having been `before`
-    /// when it started; the record is kept in the history and returned.
-    pub fn record_shot(&mut self, polygon: usize, before: f64, shot_power: f64) -> ShotRecord {
-        self.shots += 1;
+    /// Close a shot of `polygons` polygons (the first of them `polygon`; one in the paper) that
+    /// shot `shot_power`, the unshot power having been `before` when it started; the record is
+    /// kept in the history and returned. Every polygon counts as a shot.
+    pub fn record_shot(
+        &mut self,
+        polygon: usize,
+        polygons: u32,
+        before: f64,
+        shot_power: f64,
+    ) -> ShotRecord {
+        self.shots += polygons.max(1);
         let record = ShotRecord {
             shot: self.shots,
             shooter: polygon,

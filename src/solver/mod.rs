@@ -87,6 +87,8 @@ pub enum SolveError {
         bound: f64,
         receivers: String,
     },
+    #[error("the shooters per pass {0} are outside 1..={max}", max = MAX_SHOOTERS_PER_PASS)]
+    ShootersPerPass(u32),
     #[error("an atlas of {got} floats was given where the layout has {expected}")]
     AtlasSize { expected: usize, got: usize },
 }
@@ -96,6 +98,10 @@ use glam::{Mat4, Vec3};
 /// The share of the emitted power below which a shot counts as small
 /// (`SolveOptions::small_shot`), as measured against the accuracy guard (docs/accuracy.md).
 pub const SMALL_SHOT: f32 = 0.01;
+
+/// Most shooters one reconstruction pass serves (`SolveOptions::shooters_per_pass`): the shader
+/// is compiled for each count up to this.
+pub const MAX_SHOOTERS_PER_PASS: u32 = 4;
 
 /// Which form factor the reconstruction pass evaluates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
@@ -161,6 +167,13 @@ pub struct SolveOptions {
     /// instead of adding up. The paper (and every shot with this off) orients the item buffer by
     /// the normal alone.
     pub rotate_item_buffer: bool,
+    /// Beyond the paper, for cheaper shots: how many shooters one reconstruction pass serves.
+    /// Each step of the loop then picks the `shooters_per_pass` polygons with the most unshot
+    /// power; each draws its own item buffer, and one reconstruction pass adds what all of them
+    /// send (the cells of one polygon are grouped the same way). They shoot simultaneously: each
+    /// shoots the unshot energy it had when the step began, and keeps what the others send it
+    /// this pass as unshot energy. 1: one shooter per pass, as the paper.
+    pub shooters_per_pass: u32,
 }
 
 impl SolveOptions {
@@ -182,6 +195,7 @@ impl SolveOptions {
             small_hemi_res: 0,
             small_shot: 0.0,
             rotate_item_buffer: false,
+            shooters_per_pass: 1,
         }
     }
 

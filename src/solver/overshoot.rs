@@ -79,20 +79,16 @@ impl Overshoot {
     /// Find_Max_Energy when overshooting: the polygon whose shot would carry the most power,
     /// |unshot − remainder × area| (π·Σ|·| over RGB, averaged), above zero. Not the most unshot
     /// power: a polygon left with its remainder would shoot nothing, and be picked again and
-    /// again. Ties go to the lower ID.
-    pub fn find_max_energy(&self, totals: &EnergyTotals) -> Option<usize> {
+    /// again. Ties go to the lower ID. The `count` such polygons, most first (one in the paper's
+    /// loop).
+    pub fn find_max_energy(&self, totals: &EnergyTotals, count: usize) -> Vec<usize> {
         let all = sum(totals);
-        let mut best = None;
-        let mut most = 0.0;
-        for (p, e) in totals.energy.iter().enumerate() {
-            let shot = DVec3::from_array(*e) - self.remainder_with(all, totals, p) * self.areas[p];
-            let power = std::f64::consts::PI * shot.abs().element_sum() / 3.0;
-            if power > most {
-                most = power;
-                best = Some(p);
-            }
-        }
-        best
+        let power = |p: usize| {
+            let e = DVec3::from_array(totals.energy[p]);
+            let shot = e - self.remainder_with(all, totals, p) * self.areas[p];
+            std::f64::consts::PI * shot.abs().element_sum() / 3.0
+        };
+        super::find_max_energy::largest(totals.energy.len(), count, 0.0, power)
     }
 }
 

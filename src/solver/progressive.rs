@@ -30,11 +30,13 @@ pub trait Backend {
     fn layout(&self) -> &PatchLayout;
     /// The unshot radiance atlas as last read back (`read_unshot`).
     fn unshot(&self) -> &[f32];
-    /// Visibility pass (3.2.1): what the shooter sees.
-    fn visibility(&mut self, shooter: &Shooter) -> Result<(), SolveError>;
-    /// Reconstruction pass (3.2.2, steps 1–3): every receiver's ΔL added to its lightmap values;
-    /// the shooting texels' unshot radiance zero.
-    fn reconstruction(&mut self, shooter: &Shooter) -> Result<(), SolveError>;
+    /// Visibility pass (3.2.1): what the shooter sees, kept in item-buffer slot `slot` (0 in the
+    /// paper; one slot per shooter of the next reconstruction pass).
+    fn visibility(&mut self, shooter: &Shooter, slot: usize) -> Result<(), SolveError>;
+    /// Reconstruction pass (3.2.2, steps 1–3): every receiver's ΔL from `shooters` (one in the
+    /// paper; their visibility in slots 0, 1, …) added to its lightmap values; the shooting
+    /// texels' unshot radiance zero (or their remainder), plus what the others send them.
+    fn reconstruction(&mut self, shooters: &[Shooter]) -> Result<(), SolveError>;
     /// Accumulation (3.2.2, step 4): the pass's sums become the lightmaps the next pass reads.
     fn accumulate(&mut self) -> Result<(), SolveError>;
     /// After a shot: read the unshot atlas back and put into `changed` (cleared first) the
@@ -104,40 +106,59 @@ impl<'a, B: Backend> Solver<'a, B> {
         if self.converged() {
             return Ok(None);
         }
-        // Find_Max_Energy (3.2.2, step 5): the polygon with the most unshot power shoots next.
+        // Find_Max_Energy (3.2.2, step 5): the polygon with the most unshot power shoots next
+        // (with `shooters_per_pass` > 1, beyond the paper: that many polygons, most first).
         let t = Instant::now();
-        let Some(p) = self.next_polygon() else {
+        let polygons = self.next_polygons(self.options.shooters_per_pass as usize);
+        if polygons.is_empty() {
             return Ok(None);
-        };
-        let shooters = self.shooters_of(p);
+        }
+        let mut shooters = Vec::new();
+        for (i, &p) in polygons.iter().enumerate() {
+            let mut cells = self.shooters_of(p);
+            if self.options.rotate_item_buffer {
+                // Each polygon of the step its own turn, as if shot one after another.
+                let turn = super::turn_of_shot(self.ledger.shots() + i as u32);
+                cells.iter_mut().for_each(|s| s.turn = turn);
+            }
+            shooters.append(&mut cells);
+        }
         self.ledger.times.add(FIND_MAX_ENERGY, t.elapsed());
         self.shoot(&shooters).map(Some)
     }
 
-    /// One shot of one polygon, from each of `shooters` in turn (all of the same polygon, texels
-    /// in the caller's layout): a visibility pass, a reconstruction pass and the accumulation
-    /// per shooter, then one readback.
+    /// One shot of the polygons of `shooters` (texels in the caller's layout): a visibility pass
+    /// per shooter, and a reconstruction pass and the accumulation per `shooters_per_pass` of
+    /// them (in the paper one shooter, the whole polygon: one pass of each), then one readback.
+    /// The shooters of one reconstruction pass shoot simultaneously (see
+    /// `SolveOptions::shooters_per_pass`). The shot counts one per polygon.
     pub fn shoot(&mut self, shooters: &[Shooter]) -> Result<ShotRecord, SolveError> {
         let polygon = shooters.first().map(|s| s.polygon).unwrap_or(0);
+        let mut polygons: Vec<usize> = shooters.iter().map(|s| s.polygon).collect();
+        polygons.dedup();
         let before = self.ledger.unshot_power();
         let shot_power: f64 = shooters.iter().map(|s| s.power()).sum();
         let bound = self.reflection_bound(shooters);
         let powers_before: Vec<f64> = (0..self.scene.polygons.len())
             .map(|p| self.ledger.totals().power(p))
             .collect();
-        for shooter in shooters {
-            let p = shooter.polygon;
-            let shooter = &Shooter {
+        let own: Vec<Shooter> = shooters
+            .iter()
+            .map(|s| Shooter {
                 texels: move_rect(
-                    shooter.texels,
-                    &self.layout.lightmaps[p],
-                    &self.backend.layout().lightmaps[p],
+                    s.texels,
+                    &self.layout.lightmaps[s.polygon],
+                    &self.backend.layout().lightmaps[s.polygon],
                 ),
-                ..*shooter
-            };
+                ..*s
+            })
+            .collect();
+        for pass in own.chunks(self.options.shooters_per_pass.max(1) as usize) {
             let (backend, times) = (&mut self.backend, &mut self.ledger.times);
-            times.time(VISIBILITY, || backend.visibility(shooter))?;
-            times.time(RECONSTRUCTION, || backend.reconstruction(shooter))?;
+            for (slot, shooter) in pass.iter().enumerate() {
+                times.time(VISIBILITY, || backend.visibility(shooter, slot))?;
+            }
+            times.time(RECONSTRUCTION, || backend.reconstruction(pass))?;
             times.time(ACCUMULATION, || backend.accumulate())?;
             self.ledger.count_pass();
         }
@@ -148,7 +169,9 @@ impl<'a, B: Backend> Solver<'a, B> {
         self.ledger
             .update(self.backend.unshot(), width, &self.texels, &self.changed);
         self.ledger.times.add(FIND_MAX_ENERGY, t.elapsed());
-        let record = self.ledger.record_shot(polygon, before, shot_power);
+        let record = self
+            .ledger
+            .record_shot(polygon, polygons.len() as u32, before, shot_power);
         self.check_balance(&record, bound, &powers_before)?;
         Ok(record)
     }
@@ -285,9 +308,15 @@ impl<'a, B: Backend> Solver<'a, B> {
     /// Find_Max_Energy: the polygon with the most unshot power (when overshooting, whose shot
     /// would carry the most: `Overshoot::find_max_energy`).
     pub fn next_polygon(&self) -> Option<usize> {
+        self.next_polygons(1).first().copied()
+    }
+
+    /// Find_Max_Energy for `count` shooters at once: the `count` polygons that would carry the
+    /// most, most first (fewer when fewer have anything to shoot).
+    pub fn next_polygons(&self, count: usize) -> Vec<usize> {
         match &self.overshoot {
-            Some(o) => o.find_max_energy(self.ledger.totals()),
-            None => self.ledger.find_max_energy(),
+            Some(o) => o.find_max_energy(self.ledger.totals(), count),
+            None => self.ledger.find_max_energy(count),
         }
     }
 

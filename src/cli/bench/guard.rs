@@ -15,6 +15,7 @@ struct Row {
     small_hemi_res: u32,
     small_shot: f32,
     rotate_item_buffer: bool,
+    shooters_per_pass: u32,
     gpu_loop_s: f64,
     shots: u32,
     /// A fraction; bound: `guard::MEAN_DIFFERENCE_BOUND`.
@@ -43,7 +44,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             &scene,
             &layout,
             &SolveOptions {
-                max_shots: 3,
+                max_shots: 10,
                 ..options.clone()
             },
         )?;
@@ -70,6 +71,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             small_hemi_res: options.small_hemi_res,
             small_shot: options.small_shot,
             rotate_item_buffer: options.rotate_item_buffer,
+            shooters_per_pass: options.shooters_per_pass,
             gpu_loop_s: median(times),
             shots,
             mean_patch_difference: difference,

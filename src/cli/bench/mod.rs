@@ -188,14 +188,19 @@ fn by_shot(options: SolveOptions) -> SolveOptions {
     }
 }
 
+/// Shooters per reconstruction pass in the fast configuration (see [`fast_options`]).
+pub const FAST_SHOOTERS_PER_PASS: u32 = 3;
+
 /// The fast configuration (beyond the paper; measured against the accuracy guard in
 /// docs/accuracy.md): [`bench_options`] with overshooting, the item buffer chosen per shot and
 /// turned about the normal shot by shot (which costs nothing and takes back much of what the
-/// small item buffers lose).
+/// small item buffers lose), and [`FAST_SHOOTERS_PER_PASS`] shooters per reconstruction pass
+/// (which share the pass's fixed costs: receiver selection, copies, readback).
 pub fn fast_options(threshold: f32) -> SolveOptions {
     by_shot(SolveOptions {
         overshoot: true,
         rotate_item_buffer: true,
+        shooters_per_pass: FAST_SHOOTERS_PER_PASS,
         ..bench_options(threshold)
     })
 }
@@ -218,6 +223,13 @@ pub fn configurations(threshold: f32) -> Vec<(&'static str, SolveOptions)> {
             "item buffer turned",
             SolveOptions {
                 rotate_item_buffer: true,
+                ..base.clone()
+            },
+        ),
+        (
+            "shooters per pass",
+            SolveOptions {
+                shooters_per_pass: FAST_SHOOTERS_PER_PASS,
                 ..base
             },
         ),

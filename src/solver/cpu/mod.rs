@@ -117,34 +117,40 @@ impl Backend for CpuBackend<'_> {
 
     /// Nothing to draw: visibility is a shadow ray per receiver against the BVH, cast in the
     /// reconstruction only where the form factor is not zero.
-    fn visibility(&mut self, _: &Shooter) -> Result<(), SolveError> {
+    fn visibility(&mut self, _: &Shooter, _: usize) -> Result<(), SolveError> {
         Ok(())
     }
 
-    fn reconstruction(&mut self, shooter: &Shooter) -> Result<(), SolveError> {
+    fn reconstruction(&mut self, shooters: &[Shooter]) -> Result<(), SolveError> {
         let (bvh, receivers, kind) = (&self.bvh, &self.receivers, self.form_factor);
         let deltas = &mut self.deltas;
+        // Each receiver's ΔL from every shooter, summed in the shooters' order (as the shader).
         self.pool.install(|| {
             deltas
                 .par_iter_mut()
                 .zip(receivers.par_iter())
-                .for_each(|(d, r)| *d = reconstruction::delta(r, shooter, kind, bvh));
+                .for_each(|(d, r)| {
+                    *d = shooters.iter().fold(Vec3::ZERO, |sum, s| {
+                        sum + reconstruction::delta(r, s, kind, bvh)
+                    })
+                });
         });
         // The sums, in receiver order (the same for any thread count); the shooting texels'
-        // unshot radiance zero (or the overshoot's remainder).
-        let [x0, y0, x1, y1] = shooter.texels.map(|v| v as usize);
+        // unshot radiance their remainder (zero in the paper) plus what the other shooters send.
         let width = self.layout.atlas_width as usize;
         for (r, d) in self.receivers.iter().zip(&self.deltas) {
             let at = r.texel * 4;
-            if r.polygon as usize == shooter.polygon || *d != Vec3::ZERO {
-                self.marked[r.polygon as usize] = true;
+            let p = r.polygon as usize;
+            let (x, y) = (r.texel % width, r.texel / width);
+            let shooting = shooters.iter().find(|s| {
+                let [x0, y0, x1, y1] = s.texels.map(|v| v as usize);
+                s.polygon == p && (x0..x1).contains(&x) && (y0..y1).contains(&y)
+            });
+            if shooters.iter().any(|s| s.polygon == p) || *d != Vec3::ZERO {
+                self.marked[p] = true;
             }
-            if r.polygon as usize == shooter.polygon {
-                let (x, y) = (r.texel % width, r.texel / width);
-                if (x0..x1).contains(&x) && (y0..y1).contains(&y) {
-                    self.unshot[at..at + 3].copy_from_slice(&shooter.remainder.to_array());
-                }
-                continue;
+            if let Some(s) = shooting {
+                self.unshot[at..at + 3].copy_from_slice(&s.remainder.to_array());
             }
             for c in 0..3 {
                 self.radiosity[at + c] += d[c];

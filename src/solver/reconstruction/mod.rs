@@ -28,7 +28,7 @@ mod receivers;
 
 use super::mesh::ATTRIBUTES;
 use super::visibility::VisibilityPass;
-use super::{FormFactorKind, Shooter, SolveOptions, Tuning, VisibilityKind, MAX_CORNERS};
+use super::{FormFactorKind, Shooter, SolveOptions, Tuning, VisibilityKind};
 use crate::gl::faults::{self, Fault};
 use crate::gl::program::Source;
 use crate::gl::{
@@ -71,8 +71,17 @@ impl Lightmaps {
     }
 }
 
-/// The pass's programs: `glsl/reconstruct.frag` in its variants, and the emission shader.
+/// The pass's programs: `glsl/reconstruct.frag` in its variants for one number of shooters per
+/// pass (`SHOOTERS`), and the emission shader.
 struct Programs {
+    /// Per number of shooters in a pass, 1 to `SolveOptions::shooters_per_pass`.
+    per_count: Vec<ShooterPrograms>,
+    /// Writes each patch's emitted radiance (and its polygon ID in alpha) at initialisation.
+    emission: Program,
+}
+
+/// `glsl/reconstruct.frag` compiled for one number of shooters.
+struct ShooterPrograms {
     /// The shader as the paper has it: visibility, form factor and GL_ADD in one program, for any
     /// corner count and for quadrilateral shooters (`CORNERS`).
     literal: [Program; 2],
@@ -85,25 +94,29 @@ struct Programs {
     /// The marking pass (`MARK`): writes depth where a texel can receive, so that
     /// the programs above shade only those texels' blocks.
     marking: Program,
-    /// Writes each patch's emitted radiance (and its polygon ID in alpha) at initialisation.
-    emission: Program,
 }
 
 impl Programs {
-    fn new(ctx: &GlContext) -> Result<Self, GlError> {
+    fn new(ctx: &GlContext, shooters_per_pass: u32) -> Result<Self, GlError> {
         let gl = &ctx.gl;
         let squares_in = &[(0, "Corner"), (1, "Size")];
         let compile =
             |source: Source| Program::new(gl, glsl!("atlas.vert"), source, squares_in, OUTPUTS);
-        let frag = || glsl!("reconstruct.frag");
-        let literal = [compile(frag())?, compile(frag().define("CORNERS", 4))?];
-        let marked = || frag().define("MARKED", 1);
-        let above = || marked().define("SHOOTER_ABOVE", 1);
+        let per_count = (1..=shooters_per_pass.max(1) as i32)
+            .map(|count| {
+                let frag = || glsl!("reconstruct.frag").define("SHOOTERS", count);
+                let marked = || frag().define("MARKED", 1);
+                let above = || marked().define("SHOOTER_ABOVE", 1);
+                Ok(ShooterPrograms {
+                    literal: [compile(frag())?, compile(frag().define("CORNERS", 4))?],
+                    marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
+                    above: [compile(above())?, compile(above().define("CORNERS", 4))?],
+                    marking: compile(frag().define("MARK", 1))?,
+                })
+            })
+            .collect::<Result<_, GlError>>()?;
         Ok(Programs {
-            literal,
-            marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
-            above: [compile(above())?, compile(above().define("CORNERS", 4))?],
-            marking: compile(frag().define("MARK", 1))?,
+            per_count,
             emission: Program::new(
                 gl,
                 glsl!("lightmap.vert"),
@@ -207,11 +220,18 @@ pub struct ReconstructionPass {
 }
 
 impl ReconstructionPass {
-    pub fn new(ctx: &GlContext, scene: &Scene, layout: &PatchLayout) -> Result<Self, GlError> {
+    /// The pass for `scene` laid out as `layout`, serving up to `shooters_per_pass` shooters a
+    /// pass.
+    pub fn new(
+        ctx: &GlContext,
+        scene: &Scene,
+        layout: &PatchLayout,
+        shooters_per_pass: u32,
+    ) -> Result<Self, GlError> {
         let gl = &ctx.gl;
         let (width, height) = (layout.atlas_width as i32, layout.atlas_height as i32);
         let planes = PolygonPlanes::new(ctx, scene)?;
-        let programs = Programs::new(ctx)?;
+        let programs = Programs::new(ctx, shooters_per_pass)?;
         let receivers = Receivers::new(scene, layout);
         let squares = Squares::new(gl, width, height)?;
         let patches = PatchData::new(gl, width, height)?;
@@ -240,11 +260,11 @@ impl ReconstructionPass {
         ctx.check(INIT_NAME)
     }
 
-    /// The receivers to draw for `shooter` (`Receivers::select`), covered by aligned squares of
+    /// The receivers to draw for `shooters` (`Receivers::select`), covered by aligned squares of
     /// whole 4×4 blocks, split by the shader that draws them; `touched` gets the receivers and
-    /// the shooter.
-    fn select_receivers(&mut self, shooter: &Shooter, tuning: &Tuning) {
-        self.receivers.select(shooter, tuning, &mut self.touched);
+    /// the shooters.
+    fn select_receivers(&mut self, shooters: &[Shooter], tuning: &Tuning) {
+        self.receivers.select(shooters, tuning, &mut self.touched);
         let (clipped, above) = Receivers::shaders(tuning);
         self.squares.build(
             self.receivers.flags(),
@@ -256,22 +276,37 @@ impl ReconstructionPass {
     }
 
     /// One reconstruction: for every patch drawn, its radiance and unshot radiance read from the
-    /// lightmap textures plus ΔL from `shooter`, written into the two renderbuffers; the shooting
-    /// texels' unshot radiance zero. `copy_into` then carries the result into the textures.
+    /// lightmap textures plus ΔL from each of `shooters` (one in the paper; their item buffers
+    /// stacked in `visibility`'s, in this order), written into the two renderbuffers; the
+    /// shooting texels' unshot radiance their remainder (zero in the paper) plus what the other
+    /// shooters send them. `copy_into` then carries the result into the textures.
     pub fn run(
         &mut self,
         ctx: &GlContext,
         visibility: &VisibilityPass,
         lightmaps: &Lightmaps,
-        shooter: &Shooter,
+        shooters: &[Shooter],
         options: &SolveOptions,
     ) -> Result<(), GlError> {
         let tuning = options.tuning;
-        self.select_receivers(shooter, &tuning);
+        let count = shooters.len();
+        if count == 0 || count > self.programs.per_count.len() {
+            return Err(GlError::Limit(format!(
+                "{count} shooters in one reconstruction pass; it was set up for 1 to {}",
+                self.programs.per_count.len()
+            )));
+        }
+        self.select_receivers(shooters, &tuning);
         // When every texel is recomputed from the textures this pass, nothing of the last pass
         // stays in the renderbuffers.
         self.target.begin(ctx, tuning.writes_every_texel());
-        visibility.item_buffer.bind(0);
+        // Shooter 0's item buffer on unit 0, the others' on units 7, 8, ….
+        let units: Vec<i32> = (0..count)
+            .map(|k| if k == 0 { 0 } else { 6 + k as i32 })
+            .collect();
+        for (k, &unit) in units.iter().enumerate() {
+            visibility.slot_texture(k).bind(unit as u32);
+        }
         lightmaps.radiosity.bind(1);
         lightmaps.unshot.bind(2);
         self.planes.texture.bind(3);
@@ -287,11 +322,26 @@ impl ReconstructionPass {
                 gl.enable(glow::PROGRAM_POINT_SIZE);
             }
         }
-        let mut corners = [0.0f32; 3 * MAX_CORNERS];
-        for (c, v) in corners.chunks_exact_mut(3).zip(&shooter.corners) {
-            c.copy_from_slice(&v.to_array());
-        }
+        // The shooters' uniforms, one array element per shooter (the corners: MAX_CORNERS each).
+        let each = |f: &dyn Fn(&Shooter) -> Vec<f32>| -> Vec<f32> {
+            shooters.iter().flat_map(f).collect()
+        };
+        let texels: Vec<i32> = shooters
+            .iter()
+            .flat_map(|s| s.texels.map(|t| t as i32))
+            .collect();
+        let remainders = each(&|s| s.remainder.to_array().to_vec());
+        let hemi_res: Vec<i32> = shooters.iter().map(|s| s.hemi_res as i32).collect();
+        let views = each(&|s| s.view().to_cols_array().to_vec());
+        let positions = each(&|s| s.position.to_array().to_vec());
+        let normals = each(&|s| s.normal.to_array().to_vec());
+        let energies = each(&|s| s.energy.to_array().to_vec());
+        let ids = each(&|s| vec![s.polygon as f32]);
+        let corners = each(&|s| s.corners.iter().flat_map(|v| v.to_array()).collect());
+        let corner_counts: Vec<i32> = shooters.iter().map(|s| s.corner_count as i32).collect();
+        let areas = each(&|s| vec![s.area]);
         let planes = &self.planes;
+        let programs = &self.programs.per_count[count - 1];
         let uniforms = |p: &Program| {
             p.use_program();
             p.set_i32("PatchPosition", 4);
@@ -299,22 +349,22 @@ impl ReconstructionPass {
             p.set_i32("PatchReflectance", 6);
             p.set_i32("LightmapRadiosity", 1);
             p.set_i32("LightmapUnshot", 2);
-            p.set_ivec4("ShooterTexels", shooter.texels.map(|t| t as i32));
-            p.set_vec3("ShooterRemainder", shooter.remainder.to_array());
-            p.set_i32("HemiRes", shooter.hemi_res as i32);
-            p.set_i32("HemiItemBuffer", 0);
-            p.set_mat4("ShooterView", &shooter.view().to_cols_array());
-            p.set_vec3("ShootPos", shooter.position.to_array());
-            p.set_vec3("ShootNormal", shooter.normal.to_array());
-            p.set_vec3("ShootEnergy", shooter.energy.to_array());
-            p.set_f32("ShooterId", shooter.polygon as f32);
+            p.set_ivec4_array("ShooterTexels", &texels);
+            p.set_vec3_array("ShooterRemainder", &remainders);
+            p.set_i32_array("HemiRes", &hemi_res);
+            p.set_i32_array("HemiItemBuffer", &units);
+            p.set_mat4_array("ShooterView", &views);
+            p.set_vec3_array("ShootPos", &positions);
+            p.set_vec3_array("ShootNormal", &normals);
+            p.set_vec3_array("ShootEnergy", &energies);
+            p.set_f32_array("ShooterId", &ids);
             p.set_i32(
                 "FormFactorKind",
                 (options.form_factor == FormFactorKind::Polygon) as i32,
             );
             p.set_vec3_array("ShootCorners", &corners);
-            p.set_i32("ShootCornerCount", shooter.corner_count as i32);
-            p.set_f32("ShootArea", shooter.area);
+            p.set_i32_array("ShootCornerCount", &corner_counts);
+            p.set_f32_array("ShootArea", &areas);
             p.set_i32(
                 "HemiCube",
                 (options.visibility == VisibilityKind::Hemicube) as i32,
@@ -336,7 +386,7 @@ impl ReconstructionPass {
                 gl.depth_func(glow::ALWAYS);
                 gl.color_mask(false, false, false, false);
             }
-            uniforms(&self.programs.marking);
+            uniforms(&programs.marking);
             self.squares.draw_all();
             unsafe {
                 gl.depth_func(glow::EQUAL);
@@ -344,9 +394,9 @@ impl ReconstructionPass {
                 gl.color_mask(true, true, true, true);
             }
         }
-        let quad = (tuning.unroll_quads && shooter.corner_count == 4) as usize;
+        let quads = shooters.iter().all(|s| s.corner_count == 4);
+        let quad = (tuning.unroll_quads && quads) as usize;
         self.quad_passes += quad as u32;
-        let programs = &self.programs;
         let (clipping, not_clipping) = if tuning.marking_pass {
             (&programs.marked[quad], &programs.above[quad])
         } else {

@@ -85,14 +85,23 @@ impl Receivers {
         self.blocks_wide
     }
 
-    /// Flag the blocks a pass for `shooter` must draw: the lightmaps of the polygons that can
-    /// receive (every polygon with patches unless `tuning.receivers_only`) and the shooter's
-    /// texels. `touched` gets the receivers and the shooter.
-    pub(super) fn select(&mut self, shooter: &Shooter, tuning: &Tuning, touched: &mut Vec<usize>) {
+    /// Flag the blocks a pass for `shooters` must draw: the lightmaps of the polygons that can
+    /// receive from any of them (every polygon with patches unless `tuning.receivers_only`) and
+    /// the shooting texels. A polygon has the shooters above it only if it has every one of them
+    /// above it (a shooter's own polygon, which it sends nothing, aside). `touched` gets the
+    /// receivers and the shooters.
+    pub(super) fn select(
+        &mut self,
+        shooters: &[Shooter],
+        tuning: &Tuning,
+        touched: &mut Vec<usize>,
+    ) {
         touched.clear();
         self.flags.fill(0);
-        let corners = &shooter.corners[..shooter.corner_count.max(1)];
-        let reach = sphere_around(shooter.position, corners);
+        let reaches: Vec<(Vec3, f32)> = shooters
+            .iter()
+            .map(|s| sphere_around(s.position, &s.corners[..s.corner_count.max(1)]))
+            .collect();
         let bw = self.blocks_wide;
         let mark = |flags: &mut [u8], [x0, y0, x1, y1]: [u32; 4], flag: u8| {
             for by in y0 / BLOCK..y1.div_ceil(BLOCK) {
@@ -106,14 +115,23 @@ impl Receivers {
         for &p in &self.with_patches {
             let flag = if !tuning.receivers_only {
                 CLIPPED
-            } else if p == shooter.polygon {
-                // The shooter sends nothing to itself: only its shooting texels are drawn.
-                0
             } else {
-                match self.reception(p, shooter, reach) {
-                    Reception::Nothing => NOT_RECEIVING,
-                    Reception::ShooterAbove => SHOOTER_ABOVE,
-                    Reception::Clipped => CLIPPED,
+                // Each shooter's reception, its own polygon left out (only its shooting texels
+                // are drawn for it): above only if above every other shooter.
+                let mut flag = 0;
+                for (s, &reach) in shooters.iter().zip(&reaches) {
+                    if p == s.polygon {
+                        continue;
+                    }
+                    flag |= match self.reception(p, s, reach) {
+                        Reception::Nothing => NOT_RECEIVING,
+                        Reception::ShooterAbove => SHOOTER_ABOVE,
+                        Reception::Clipped => CLIPPED,
+                    };
+                }
+                match flag {
+                    0 | NOT_RECEIVING | SHOOTER_ABOVE => flag,
+                    _ => CLIPPED,
                 }
             };
             if flag != NOT_RECEIVING {
@@ -124,7 +142,12 @@ impl Receivers {
             }
         }
         // The shooting texels are drawn to clear their unshot energy.
-        mark(&mut self.flags, shooter.texels, SHOOTER);
+        for s in shooters {
+            mark(&mut self.flags, s.texels, SHOOTER);
+            if !touched.contains(&s.polygon) {
+                touched.push(s.polygon);
+            }
+        }
     }
 
     /// Which flagged blocks to draw with the shader that clips the shooter to the receiver's

@@ -42,6 +42,8 @@ pub struct VisibilityPass {
     pub item_buffer: Texture,
     _depth: Renderbuffer,
     fbo: Framebuffer,
+    /// The item buffers of the further shooters of one reconstruction pass (`with_slots`).
+    further_slots: Vec<ItemSlot>,
     resolution: i32,
     /// The speed switches this pass reads (see [`Tuning`]).
     tuning: Tuning,
@@ -75,6 +77,41 @@ pub struct VisibilityPass {
 }
 
 pub const NAME: &str = "visibility";
+
+/// One item buffer with its depth buffer and FBO.
+struct ItemSlot {
+    item_buffer: Texture,
+    _depth: Renderbuffer,
+    fbo: Framebuffer,
+}
+
+impl ItemSlot {
+    fn new(
+        gl: &std::rc::Rc<glow::Context>,
+        width: i32,
+        height: i32,
+        float_depth: bool,
+    ) -> Result<Self, GlError> {
+        // NEAREST: an ID must never be blended with its neighbour's.
+        let item_buffer = Texture::new(gl, width, height, TextureFormat::Rgba8, glow::NEAREST)?;
+        // Float depth (GL 3.0) or 24-bit integers: `Tuning::float_depth`.
+        let depth_format = if float_depth {
+            glow::DEPTH_COMPONENT32F
+        } else {
+            glow::DEPTH_COMPONENT24
+        };
+        let depth = Renderbuffer::new(gl, depth_format, width, height)?;
+        let fbo = Framebuffer::new(gl)?;
+        fbo.attach_texture(glow::COLOR_ATTACHMENT0, &item_buffer);
+        fbo.attach_renderbuffer(glow::DEPTH_ATTACHMENT, &depth);
+        fbo.check_complete(NAME)?;
+        Ok(ItemSlot {
+            item_buffer,
+            _depth: depth,
+            fbo,
+        })
+    }
+}
 
 /// The pixels of hemicube face `k` (x, y, width, height within the face) that look above the
 /// shooter's horizon: all of the front face, half of each side face (see `face_rotations`:
@@ -120,6 +157,19 @@ impl VisibilityPass {
         tuning: Tuning,
         scene: &Scene,
     ) -> Result<Self, GlError> {
+        Self::with_slots(ctx, kind, resolution, tuning, scene, 1)
+    }
+
+    /// A pass with `slots` item buffers, one for each shooter of one reconstruction pass
+    /// (`SolveOptions::shooters_per_pass`; `run_in_slot`).
+    pub fn with_slots(
+        ctx: &GlContext,
+        kind: VisibilityKind,
+        resolution: u32,
+        tuning: Tuning,
+        scene: &Scene,
+        slots: u32,
+    ) -> Result<Self, GlError> {
         let gl = &ctx.gl;
         let scene_size = scene.size();
         let spheres = scene.polygons.iter().map(|p| p.bounding_sphere()).collect();
@@ -140,18 +190,10 @@ impl VisibilityPass {
         let res = resolution as i32;
         let width = item_buffer_size(kind, resolution).0 as i32;
         // NEAREST: an ID must never be blended with its neighbour's.
-        let item_buffer = Texture::new(gl, width, res, TextureFormat::Rgba8, glow::NEAREST)?;
-        // Float depth (GL 3.0) or 24-bit integers: `Tuning::float_depth`.
-        let depth_format = if tuning.float_depth {
-            glow::DEPTH_COMPONENT32F
-        } else {
-            glow::DEPTH_COMPONENT24
-        };
-        let depth = Renderbuffer::new(gl, depth_format, width, res)?;
-        let fbo = Framebuffer::new(gl)?;
-        fbo.attach_texture(glow::COLOR_ATTACHMENT0, &item_buffer);
-        fbo.attach_renderbuffer(glow::DEPTH_ATTACHMENT, &depth);
-        fbo.check_complete(NAME)?;
+        let mut slots = (0..slots.max(1))
+            .map(|_| ItemSlot::new(gl, width, res, tuning.float_depth))
+            .collect::<Result<Vec<_>, GlError>>()?;
+        let first = slots.remove(0);
         unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
         ctx.check(NAME)?;
         // Near plane: 1e-4 of the scene, so the shooter's own plane is clipped away but receivers
@@ -169,9 +211,10 @@ impl VisibilityPass {
         Ok(VisibilityPass {
             program,
             kind,
-            item_buffer,
-            _depth: depth,
-            fbo,
+            item_buffer: first.item_buffer,
+            _depth: first._depth,
+            fbo: first.fbo,
+            further_slots: slots,
             resolution: res,
             tuning,
             guard,
@@ -211,7 +254,7 @@ impl VisibilityPass {
         self.plates.representative[p]
     }
 
-    /// Draw the item buffer from `shooter`. With `Tuning::cull_views` each view draws only the
+    /// Draw the item buffer from `shooter` (into the first slot). With `Tuning::cull_views` each view draws only the
     /// polygons whose bounding sphere reaches into it and in front of the shooter, and with
     /// `Tuning::half_side_faces` the hemicube's side faces fill only their upper halves, the
     /// part above the shooter's horizon that the reconstruction pass looks up.
@@ -221,7 +264,24 @@ impl VisibilityPass {
         mesh: &SceneMesh,
         shooter: &Shooter,
     ) -> Result<(), GlError> {
+        self.run_in_slot(ctx, mesh, shooter, 0)
+    }
+
+    /// `run` into item buffer `slot` (`with_slots`; `slot_texture`).
+    pub fn run_in_slot(
+        &mut self,
+        ctx: &GlContext,
+        mesh: &SceneMesh,
+        shooter: &Shooter,
+        slot: usize,
+    ) -> Result<(), GlError> {
         let gl = &ctx.gl;
+        if slot > self.further_slots.len() {
+            return Err(GlError::Limit(format!(
+                "item-buffer slot {slot} of a pass set up for {}",
+                self.further_slots.len() + 1
+            )));
+        }
         let view = shooter.view();
         let views = match self.kind {
             VisibilityKind::Hemisphere => 1,
@@ -313,7 +373,10 @@ impl VisibilityPass {
         let r = (shooter.hemi_res as i32).clamp(1, self.resolution);
         let (width, height) = (self.item_buffer.width / self.resolution * r, r);
         self.drawn = (width, height);
-        self.fbo.bind();
+        match slot {
+            0 => self.fbo.bind(),
+            k => self.further_slots[k - 1].fbo.bind(),
+        }
         unsafe {
             gl.viewport(0, 0, width, height);
             gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
@@ -385,6 +448,14 @@ impl VisibilityPass {
             }
         }
         ctx.check(NAME)
+    }
+
+    /// Item buffer `slot` (0: `item_buffer`).
+    pub fn slot_texture(&self, slot: usize) -> &Texture {
+        match slot {
+            0 => &self.item_buffer,
+            k => &self.further_slots[k - 1].item_buffer,
+        }
     }
 
     /// The part of the item buffer the last pass drew (width, height), from its lower-left
