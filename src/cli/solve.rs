@@ -262,6 +262,12 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     if args.solver == SolverKind::Cpu && !args.dump_passes.is_empty() {
         bail!("--dump-passes pictures the GPU passes: use it with --solver gpu");
     }
+    if args.shooters_per_pass > 1 && !args.dump_passes.is_empty() {
+        bail!(
+            "--dump-passes pictures one shooter's passes per shot: use it with \
+             --shooters-per-pass 1"
+        );
+    }
     // Before the solve: an unwritable folder fails now, not after it. Every file goes in here and
     // is published together at the end.
     let set = OutputSet::begin(&out_dir)?;

@@ -10,7 +10,7 @@
 //! the passes draw; `tuning.rs` holds every speed trick for llvmpipe, apart from the paper;
 //! `overshoot.rs` the ambient estimate of overshooting, one of the speed options beyond the paper
 //! that change the answer (`SolveOptions::overshoot`, `small_hemi_res`,
-//! `rotate_item_buffer`).
+//! `rotate_item_buffer`, `shooters_per_pass`).
 
 pub mod cpu;
 pub mod find_max_energy;
@@ -168,11 +168,13 @@ pub struct SolveOptions {
     /// the normal alone.
     pub rotate_item_buffer: bool,
     /// Beyond the paper, for cheaper shots: how many shooters one reconstruction pass serves.
-    /// Each step of the loop then picks the `shooters_per_pass` polygons with the most unshot
-    /// power; each draws its own item buffer, and one reconstruction pass adds what all of them
-    /// send (the cells of one polygon are grouped the same way). They shoot simultaneously: each
-    /// shoots the unshot energy it had when the step began, and keeps what the others send it
-    /// this pass as unshot energy. 1: one shooter per pass, as the paper.
+    /// Each step of the loop then takes the polygons with the most unshot power, up to
+    /// `shooters_per_pass` of them as long as all their shooters fit in one pass; each shooter
+    /// draws its own item buffer, and one reconstruction pass adds what all of them send. They
+    /// shoot simultaneously: each shoots the unshot energy it had when the step began, and keeps
+    /// what the others send it this pass as unshot energy. A polygon with more cells than that
+    /// shoots alone, its cells `shooters_per_pass` to a pass (they send each other nothing).
+    /// 1: one shooter per pass, as the paper.
     pub shooters_per_pass: u32,
 }
 

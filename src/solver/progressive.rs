@@ -8,6 +8,8 @@
 //!         visibility pass from the shooter                           -- Backend::visibility
 //!         reconstruction pass: every receiver's ΔE = ρ·F·E added     -- Backend::reconstruction
 //!         the sums into the lightmaps (glCopyTexSubImage2D)          -- Backend::accumulate
+//!     (beyond the paper, `shooters_per_pass` K > 1: the K polygons with the most unshot
+//!     power; one visibility pass each, one reconstruction pass for K of them)
 //!     (the shooter's unshot energy is cleared by its pass)
 //!     read the unshot lightmap back, re-total the changed polygons   -- Backend::read_unshot
 //! ```
@@ -107,15 +109,25 @@ impl<'a, B: Backend> Solver<'a, B> {
             return Ok(None);
         }
         // Find_Max_Energy (3.2.2, step 5): the polygon with the most unshot power shoots next
-        // (with `shooters_per_pass` > 1, beyond the paper: that many polygons, most first).
+        // (with `shooters_per_pass` K > 1, beyond the paper: the next ones too, as long as all
+        // their shooters fit in one reconstruction pass).
         let t = Instant::now();
-        let polygons = self.next_polygons(self.options.shooters_per_pass as usize);
+        let k = self.options.shooters_per_pass.max(1) as usize;
+        // No more than the shots left before `max_shots`.
+        let left = self.options.max_shots.saturating_sub(self.ledger.shots());
+        let polygons = self.next_polygons(k.min(left as usize).max(1));
         if polygons.is_empty() {
             return Ok(None);
         }
         let mut shooters = Vec::new();
         for (i, &p) in polygons.iter().enumerate() {
             let mut cells = self.shooters_of(p);
+            // A polygon shot in a later pass of the step would have received from the earlier
+            // ones and then lost it to its remainder; so either one polygon (its cells K to a
+            // pass: they send each other nothing), or polygons that share one pass.
+            if i > 0 && shooters.len() + cells.len() > k {
+                break;
+            }
             if self.options.rotate_item_buffer {
                 // Each polygon of the step its own turn, as if shot one after another.
                 let turn = super::turn_of_shot(self.ledger.shots() + i as u32);
@@ -131,7 +143,9 @@ impl<'a, B: Backend> Solver<'a, B> {
     /// per shooter, and a reconstruction pass and the accumulation per `shooters_per_pass` of
     /// them (in the paper one shooter, the whole polygon: one pass of each), then one readback.
     /// The shooters of one reconstruction pass shoot simultaneously (see
-    /// `SolveOptions::shooters_per_pass`). The shot counts one per polygon.
+    /// `SolveOptions::shooters_per_pass`). Shooters of several polygons must fit in one pass, as
+    /// `step` picks them: a polygon shot in a later pass would lose what it received in an earlier
+    /// one. The shot counts one per polygon.
     pub fn shoot(&mut self, shooters: &[Shooter]) -> Result<ShotRecord, SolveError> {
         let polygon = shooters.first().map(|s| s.polygon).unwrap_or(0);
         let mut polygons: Vec<usize> = shooters.iter().map(|s| s.polygon).collect();

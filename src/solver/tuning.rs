@@ -11,9 +11,10 @@
 //! number of blocks drawn and the number of instructions in the shader, whatever the fragments
 //! decide.
 //!
-//! The speed options that do change the answer (overshooting, the item buffer chosen per shot)
-//! are not here but in [`SolveOptions`](super::SolveOptions), off in both modes,
-//! each measured against the accuracy guard (`validate::guard`, paper_notes "Beyond the paper").
+//! The speed options that do change the answer (overshooting, the item buffer chosen per shot,
+//! several shooters per pass) are not here but in [`SolveOptions`](super::SolveOptions), off in
+//! both modes, each measured against the accuracy guard (`validate::guard`, paper_notes "Beyond
+//! the paper").
 
 /// Speed switches of the passes (see the module comment). `Default` is [`Tuning::llvmpipe`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
