@@ -108,19 +108,29 @@ impl<'a, B: Backend> Solver<'a, B> {
         if self.converged() {
             return Ok(None);
         }
-        // Find_Max_Energy (3.2.2, step 5): the polygon with the most unshot power shoots next
-        // (with `shooters_per_pass` K > 1, beyond the paper: the next ones too, as long as all
-        // their shooters fit in one reconstruction pass).
+        // Find_Max_Energy (3.2.2, step 5): the polygon with the most unshot power shoots next.
         let t = Instant::now();
-        let k = self.options.shooters_per_pass.max(1) as usize;
-        // No more than the shots left before `max_shots`.
-        let left = self.options.max_shots.saturating_sub(self.ledger.shots());
-        let polygons = self.next_polygons(k.min(left as usize).max(1));
-        if polygons.is_empty() {
+        let shooters = self.next_shooters();
+        if shooters.is_empty() {
             return Ok(None);
         }
+        self.ledger.times.add(FIND_MAX_ENERGY, t.elapsed());
+        self.shoot(&shooters).map(Some)
+    }
+
+    /// The shooters of the next step: Find_Max_Energy's polygon, its shooters (`shooters_of`).
+    /// Beyond the paper, with `shooters_per_pass` K > 1, the next polygons too, as long as all
+    /// their shooters fit in one reconstruction pass, and no more than the shots left before
+    /// `max_shots`. Empty when nothing is left to shoot.
+    fn next_shooters(&self) -> Vec<Shooter> {
+        let k = self.options.shooters_per_pass.max(1) as usize;
+        let left = self.options.max_shots.saturating_sub(self.ledger.shots());
         let mut shooters = Vec::new();
-        for (i, &p) in polygons.iter().enumerate() {
+        for (i, p) in self
+            .next_polygons(k.min(left as usize).max(1))
+            .into_iter()
+            .enumerate()
+        {
             let mut cells = self.shooters_of(p);
             // A polygon shot in a later pass of the step would have received from the earlier
             // ones and then lost it to its remainder; so either one polygon (its cells K to a
@@ -135,8 +145,7 @@ impl<'a, B: Backend> Solver<'a, B> {
             }
             shooters.append(&mut cells);
         }
-        self.ledger.times.add(FIND_MAX_ENERGY, t.elapsed());
-        self.shoot(&shooters).map(Some)
+        shooters
     }
 
     /// One shot of the polygons of `shooters` (texels in the caller's layout): a visibility pass

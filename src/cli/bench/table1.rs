@@ -344,12 +344,14 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             "unshot power / emitted power <= {}; whole polygons shoot (one pass per shot, as in \
              the paper), polygon form factor, {}² hemicube; fast: the same with overshooting and \
              the item buffer at {}² for shots over {} of the emitted power, {}² for the others, \
-             turned about the shooter's normal shot by shot; median of {} run(s)",
+             turned about the shooter's normal shot by shot, {} shooters per reconstruction \
+             pass; median of {} run(s)",
             args.threshold,
             options.hemi_res,
             super::FAST_HEMI_RES,
             crate::solver::SMALL_SHOT,
             super::FAST_SMALL_HEMI_RES,
+            super::FAST_SHOOTERS_PER_PASS,
             args.repeat
         ),
         timing:
