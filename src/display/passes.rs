@@ -103,7 +103,7 @@ impl<'a> PassDumps<'a> {
         let mut files = Vec::new();
         let vis = &solver.backend().visibility;
         // Only what this shot drew (a small shot fills the lower-left corner).
-        let full = vis.item_buffer.width as usize;
+        let full = vis.item_buffer().width as usize;
         let (iw, ih) = (vis.drawn().0 as u32, vis.drawn().1 as u32);
         let ids: Vec<Option<u32>> = (vis.read_ids().chunks_exact(full))
             .take(ih as usize)

@@ -163,7 +163,7 @@ impl<'a> Session<'a> {
         exposure: f32,
     ) -> Result<(), GlError> {
         if overlays.item_buffer && self.last_shooter().is_some() {
-            let item = &self.solver.backend().visibility.item_buffer;
+            let item = &self.solver.backend().visibility.item_buffer();
             if let Some(rect) = inset_rect(view, (item.width, item.height), true) {
                 insets.draw(ctx, item, Inset::ItemBuffer, rect)?;
             }

@@ -38,12 +38,9 @@ use solids::Solids;
 pub struct VisibilityPass {
     program: Program,
     pub kind: VisibilityKind,
-    /// The item buffer: RGBA8, ID + 1 in RGB (0 = nothing seen).
-    pub item_buffer: Texture,
-    _depth: Renderbuffer,
-    fbo: Framebuffer,
-    /// The item buffers of the further shooters of one reconstruction pass (`with_slots`).
-    further_slots: Vec<ItemSlot>,
+    /// The item buffers, one per shooter of a reconstruction pass (`with_slots`; one in the
+    /// paper), each with its depth buffer and FBO.
+    slots: Vec<ItemSlot>,
     resolution: i32,
     /// The speed switches this pass reads (see [`Tuning`]).
     tuning: Tuning,
@@ -78,7 +75,7 @@ pub struct VisibilityPass {
 
 pub const NAME: &str = "visibility";
 
-/// One item buffer with its depth buffer and FBO.
+/// One item buffer (RGBA8, ID + 1 in RGB, 0 = nothing seen) with its depth buffer and FBO.
 struct ItemSlot {
     item_buffer: Texture,
     _depth: Renderbuffer,
@@ -190,10 +187,9 @@ impl VisibilityPass {
         let res = resolution as i32;
         let width = item_buffer_size(kind, resolution).0 as i32;
         // NEAREST: an ID must never be blended with its neighbour's.
-        let mut slots = (0..slots.max(1))
+        let slots = (0..slots.max(1))
             .map(|_| ItemSlot::new(gl, width, res, tuning.float_depth))
             .collect::<Result<Vec<_>, GlError>>()?;
-        let first = slots.remove(0);
         unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
         ctx.check(NAME)?;
         // Near plane: 1e-4 of the scene, so the shooter's own plane is clipped away but receivers
@@ -211,10 +207,7 @@ impl VisibilityPass {
         Ok(VisibilityPass {
             program,
             kind,
-            item_buffer: first.item_buffer,
-            _depth: first._depth,
-            fbo: first.fbo,
-            further_slots: slots,
+            slots,
             resolution: res,
             tuning,
             guard,
@@ -276,12 +269,12 @@ impl VisibilityPass {
         slot: usize,
     ) -> Result<(), GlError> {
         let gl = &ctx.gl;
-        if slot > self.further_slots.len() {
+        let Some(target) = self.slots.get(slot) else {
             return Err(GlError::Limit(format!(
                 "item-buffer slot {slot} of a pass set up for {}",
-                self.further_slots.len() + 1
+                self.slots.len()
             )));
-        }
+        };
         let view = shooter.view();
         let views = match self.kind {
             VisibilityKind::Hemisphere => 1,
@@ -371,12 +364,9 @@ impl VisibilityPass {
         // This shot's resolution (`SolveOptions::small_hemi_res`): the views fill the item
         // buffer's lower-left corner, and the reconstruction pass looks up only that.
         let r = (shooter.hemi_res as i32).clamp(1, self.resolution);
-        let (width, height) = (self.item_buffer.width / self.resolution * r, r);
+        let (width, height) = (target.item_buffer.width / self.resolution * r, r);
         self.drawn = (width, height);
-        match slot {
-            0 => self.fbo.bind(),
-            k => self.further_slots[k - 1].fbo.bind(),
-        }
+        target.fbo.bind();
         unsafe {
             gl.viewport(0, 0, width, height);
             gl.draw_buffers(&[glow::COLOR_ATTACHMENT0]);
@@ -450,12 +440,14 @@ impl VisibilityPass {
         ctx.check(NAME)
     }
 
-    /// Item buffer `slot` (0: `item_buffer`).
+    /// The item buffer of slot `slot` (`run_in_slot`).
     pub fn slot_texture(&self, slot: usize) -> &Texture {
-        match slot {
-            0 => &self.item_buffer,
-            k => &self.further_slots[k - 1].item_buffer,
-        }
+        &self.slots[slot].item_buffer
+    }
+
+    /// The item buffer of the first slot: the paper's one.
+    pub fn item_buffer(&self) -> &Texture {
+        self.slot_texture(0)
     }
 
     /// The part of the item buffer the last pass drew (width, height), from its lower-left
@@ -464,9 +456,10 @@ impl VisibilityPass {
         self.drawn
     }
 
-    /// The item buffer as polygon IDs (`None` where no polygon is seen), rows bottom to top.
+    /// The (first slot's) item buffer as polygon IDs (`None` where no polygon is seen), rows
+    /// bottom to top.
     pub fn read_ids(&self) -> Vec<Option<u32>> {
-        self.item_buffer
+        self.item_buffer()
             .read_u8()
             .chunks_exact(4)
             .map(|c| {
