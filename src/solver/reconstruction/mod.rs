@@ -128,6 +128,11 @@ impl Programs {
     }
 }
 
+/// `f`'s values for each of `shooters`, one after another: a uniform array's contents.
+fn per_shooter<T, const N: usize>(shooters: &[Shooter], f: impl Fn(&Shooter) -> [T; N]) -> Vec<T> {
+    shooters.iter().flat_map(f).collect()
+}
+
 /// The two outputs: 0 = radiosity + ΔL, 1 = unshot + ΔL (zero for the texels that shoot).
 const OUTPUTS: &[(u32, &str)] = &[(0, "NewRadiosity"), (1, "NewUnshot")];
 
@@ -323,23 +328,19 @@ impl ReconstructionPass {
             }
         }
         // The shooters' uniforms, one array element per shooter (the corners: MAX_CORNERS each).
-        let each = |f: &dyn Fn(&Shooter) -> Vec<f32>| -> Vec<f32> {
-            shooters.iter().flat_map(f).collect()
-        };
-        let texels: Vec<i32> = shooters
-            .iter()
-            .flat_map(|s| s.texels.map(|t| t as i32))
+        let texels = per_shooter(shooters, |s| s.texels.map(|t| t as i32));
+        let remainders = per_shooter(shooters, |s| s.remainder.to_array());
+        let hemi_res = per_shooter(shooters, |s| [s.hemi_res as i32]);
+        let views = per_shooter(shooters, |s| s.view().to_cols_array());
+        let positions = per_shooter(shooters, |s| s.position.to_array());
+        let normals = per_shooter(shooters, |s| s.normal.to_array());
+        let energies = per_shooter(shooters, |s| s.energy.to_array());
+        let ids = per_shooter(shooters, |s| [s.polygon as f32]);
+        let corners: Vec<f32> = (shooters.iter())
+            .flat_map(|s| s.corners.iter().flat_map(|v| v.to_array()))
             .collect();
-        let remainders = each(&|s| s.remainder.to_array().to_vec());
-        let hemi_res: Vec<i32> = shooters.iter().map(|s| s.hemi_res as i32).collect();
-        let views = each(&|s| s.view().to_cols_array().to_vec());
-        let positions = each(&|s| s.position.to_array().to_vec());
-        let normals = each(&|s| s.normal.to_array().to_vec());
-        let energies = each(&|s| s.energy.to_array().to_vec());
-        let ids = each(&|s| vec![s.polygon as f32]);
-        let corners = each(&|s| s.corners.iter().flat_map(|v| v.to_array()).collect());
-        let corner_counts: Vec<i32> = shooters.iter().map(|s| s.corner_count as i32).collect();
-        let areas = each(&|s| vec![s.area]);
+        let corner_counts = per_shooter(shooters, |s| [s.corner_count as i32]);
+        let areas = per_shooter(shooters, |s| [s.area]);
         let planes = &self.planes;
         let programs = &self.programs.per_count[count - 1];
         let uniforms = |p: &Program| {
