@@ -1,0 +1,96 @@
+//! Two GPU solver configurations timed shot by shot, interleaved in one process: the way to see a
+//! change of a few per cent on a VM whose speed drifts by ±15 % between runs (docs/perf-log.md,
+//! 2026-12-02). Both solvers share one GL context; after each step a `glFinish`, so each step's
+//! time is its own work. Two runs of the same configuration agree to about 0.5 %.
+//!
+//! `cargo run --release --example interleaved_ab -- SCENE.obj SHOTS A B`, where A and B are
+//! comma-separated changes to the fast configuration (`bench::fast_options`):
+//! `base` (none), `paper` (the paper-faithful row's options), `k1`..`k4` (shooters per pass),
+//! `no-overshoot`, `small=N` (the small shots' item-buffer side), or `-SWITCH` to turn off one `Tuning` switch (`-marking_pass`, `-plates`, …).
+//! Switches of `Tuning` leave the answer as it is, so both solvers take the same shots; options
+//! that change the answer may make them take different ones.
+
+use glow::HasContext;
+use gpu_radiosity::cli::bench::{bench_options, fast_options};
+use gpu_radiosity::gl::{BackendChoice, GlContext};
+use gpu_radiosity::patches::{PatchLayout, Resolution};
+use gpu_radiosity::scene::load_obj;
+use gpu_radiosity::solver::{GpuSolver, SolveOptions};
+use std::path::Path;
+use std::time::Instant;
+
+fn configuration(changes: &str) -> SolveOptions {
+    let mut o = fast_options(0.01);
+    for change in changes.split(',') {
+        let t = &mut o.tuning;
+        match change {
+            "" | "base" => {}
+            "paper" => o = bench_options(0.01),
+            "k1" | "k2" | "k3" | "k4" => o.shooters_per_pass = change[1..].parse().unwrap(),
+            "no-overshoot" => o.overshoot = false,
+            small if small.starts_with("small=") => {
+                o.small_hemi_res = small[6..].parse().expect("small=N: a resolution")
+            }
+            "-receivers_only" => t.receivers_only = false,
+            "-marking_pass" => t.marking_pass = false,
+            "-skip_needless_clipping" => t.skip_needless_clipping = false,
+            "-unroll_quads" => t.unroll_quads = false,
+            "-squares_as_points" => t.squares_as_points = false,
+            "-guard_band" => t.guard_band = 1,
+            "-cull_views" => t.cull_views = false,
+            "-split_unclipped" => t.split_unclipped = false,
+            "-half_side_faces" => t.half_side_faces = false,
+            "-plates" => t.plates = false,
+            "-cull_solids" => t.cull_solids = false,
+            "-flush_visibility" => t.flush_visibility = false,
+            other => panic!("unknown change '{other}' (see the file's comment)"),
+        }
+    }
+    o
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    if args.len() != 5 {
+        eprintln!("usage: interleaved_ab SCENE.obj SHOTS A B (see examples/interleaved_ab.rs)");
+        std::process::exit(2);
+    }
+    let scene = load_obj(Path::new(&args[1])).expect("the scene loads");
+    let shots: u32 = args[2].parse().expect("SHOTS is a number");
+    let resolution = scene
+        .patch_size
+        .map_or(Resolution::Patches(4096), Resolution::PatchSize);
+    let layout = PatchLayout::new(&scene, resolution);
+    let ctx = GlContext::headless(BackendChoice::Auto).expect("a GL 3.0 context");
+    let mut solvers = [&args[3], &args[4]].map(|changes| {
+        GpuSolver::new(&ctx, &scene, &layout, configuration(changes)).expect("the solver starts")
+    });
+    let mut seconds = [0.0; 2];
+    let mut done = [0u32; 2];
+    unsafe { ctx.gl.finish() };
+    while done.iter().any(|&n| n < shots) {
+        for k in 0..2 {
+            if done[k] >= shots {
+                continue;
+            }
+            let start = Instant::now();
+            done[k] = match solvers[k].step().expect("the shot succeeds") {
+                Some(record) => record.shot,
+                None => shots,
+            };
+            unsafe { ctx.gl.finish() };
+            seconds[k] += start.elapsed().as_secs_f64();
+        }
+    }
+    let shot = |k: usize| solvers[k].shots();
+    println!(
+        "A {}: {:.3} s, {} shots; B {}: {:.3} s, {} shots; B/A {:.3}",
+        args[3],
+        seconds[0],
+        shot(0),
+        args[4],
+        seconds[1],
+        shot(1),
+        seconds[1] / seconds[0]
+    );
+}
