@@ -1,7 +1,8 @@
 //! Two GPU solver configurations timed shot by shot, interleaved in one process: the way to see a
 //! change of a few per cent on a VM whose speed drifts by ±15 % between runs (docs/perf-log.md,
 //! 2026-12-02). Both solvers share one GL context; after each step a `glFinish`, so each step's
-//! time is its own work. Two runs of the same configuration agree to about 0.5 %.
+//! time is its own work; the solvers take turns at going first, and their first steps are not
+//! timed. Two runs of the same configuration agree to about 0.5 %; run A/B and B/A both.
 //!
 //! `cargo run --release --example interleaved_ab -- SCENE.obj SHOTS A B`, where A and B are
 //! comma-separated changes to the fast configuration (`bench::fast_options`):
@@ -18,6 +19,9 @@ use gpu_radiosity::scene::load_obj;
 use gpu_radiosity::solver::{GpuSolver, SolveOptions};
 use std::path::Path;
 use std::time::Instant;
+
+/// Steps of each solver left out of the times.
+const UNTIMED_ROUNDS: u32 = 10;
 
 fn configuration(changes: &str) -> SolveOptions {
     let mut o = fast_options(0.01);
@@ -68,8 +72,12 @@ fn main() {
     let mut seconds = [0.0; 2];
     let mut done = [0u32; 2];
     unsafe { ctx.gl.finish() };
+    let mut round = 0;
     while done.iter().any(|&n| n < shots) {
-        for k in 0..2 {
+        // Each round the other one first; the first rounds untimed (they compile the programs,
+        // which the first solver to draw pays for both when Mesa's shader cache is cold).
+        let order = if round % 2 == 0 { [0, 1] } else { [1, 0] };
+        for k in order {
             if done[k] >= shots {
                 continue;
             }
@@ -79,8 +87,11 @@ fn main() {
                 None => shots,
             };
             unsafe { ctx.gl.finish() };
-            seconds[k] += start.elapsed().as_secs_f64();
+            if round >= UNTIMED_ROUNDS {
+                seconds[k] += start.elapsed().as_secs_f64();
+            }
         }
+        round += 1;
     }
     let shot = |k: usize| solvers[k].shots();
     println!(
