@@ -7,7 +7,8 @@
 //! `cargo run --release --example interleaved_ab -- SCENE.obj SHOTS A B`, where A and B are
 //! comma-separated changes to the fast configuration (`bench::fast_options`):
 //! `base` (none), `paper` (the paper-faithful row's options), `k1`..`k4` (shooters per pass),
-//! `no-overshoot`, `small=N` (the small shots' item-buffer side), or `-SWITCH` to turn off one `Tuning` switch (`-marking_pass`, `-plates`, …).
+//! `no-overshoot`, `small=N` (the small shots' item-buffer side), or `-SWITCH` to turn off one
+//! `Tuning` switch (`-marking_pass`, `-plates`, …).
 //! Switches of `Tuning` leave the answer as it is, so both solvers take the same shots; options
 //! that change the answer may make them take different ones.
 
