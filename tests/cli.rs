@@ -254,3 +254,29 @@ fn unwritable_output_directory_is_a_clear_error() {
     let out = radiosity(&["solve", "--out", target.to_str().unwrap()], dir.path());
     assert_clean_failure(&out, &["output directory", "a-file"]);
 }
+
+#[test]
+fn a_reader_that_stops_early_ends_the_report_not_the_command() {
+    // `radiosity bench scaling --from … --plot … | head -1`: standard output is closed before
+    // anything is printed (the pipe's read end dropped first, so every write fails with EPIPE).
+    // The command must not panic and must still write the plot, which it does after the table.
+    let dir = tempfile::tempdir().unwrap();
+    let plot = dir.path().join("scaling.png");
+    let saved = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/scaling.json");
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args(["bench", "scaling", "--from"])
+        .arg(&saved)
+        .arg("--plot")
+        .arg(&plot)
+        .stdout(writer)
+        .stderr(std::process::Stdio::piped())
+        .output()
+        .expect("the binary runs");
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(plot.is_file(), "the plot was not written after the report");
+    assert!(std::fs::metadata(&plot).unwrap().len() > 1000);
+}

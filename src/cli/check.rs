@@ -56,7 +56,7 @@ pub fn run_check(args: &CheckArgs) -> Result<()> {
     let cases = golden::select(&args.cases)?;
     if args.list {
         for case in &cases {
-            println!("{:<18} {}", case.name, case.exercises);
+            outln!("{:<18} {}", case.name, case.exercises);
         }
         return Ok(());
     }
@@ -207,16 +207,22 @@ fn run_matrix(
 }
 
 fn print_rows(runs: &[DriverRun]) {
-    println!(
+    outln!(
         "{:<9} {:<17} {:>8} {:>8} {:>10} {:>9} {:>6}  result",
-        "driver", "case", "RMS %", "plain %", "outliers %", "differ %", "s"
+        "driver",
+        "case",
+        "RMS %",
+        "plain %",
+        "outliers %",
+        "differ %",
+        "s"
     );
     for run in runs {
         match run.status {
             Status::Ran | Status::Crashed => {
                 for o in &run.outcomes {
                     let c = &o.comparison;
-                    println!(
+                    outln!(
                         "{:<9} {:<17} {:>8.4} {:>8.4} {:>10.3} {:>9.3} {:>6.1}  {}",
                         run.driver.name(),
                         c.case,
@@ -229,7 +235,7 @@ fn print_rows(runs: &[DriverRun]) {
                     );
                 }
                 if run.status == Status::Crashed {
-                    println!(
+                    outln!(
                         "{:<9} {:<17} crashed: {}",
                         run.driver.name(),
                         "-",
@@ -238,7 +244,7 @@ fn print_rows(runs: &[DriverRun]) {
                 }
             }
             Status::Unavailable => {
-                println!(
+                outln!(
                     "{:<9} {:<17} unavailable: {}",
                     run.driver.name(),
                     "-",
@@ -248,7 +254,7 @@ fn print_rows(runs: &[DriverRun]) {
         }
     }
     for run in runs.iter().filter(|r| !r.renderer.is_empty()) {
-        println!(
+        outln!(
             "{}: {} | {} ({:.0} s)",
             run.driver.name(),
             run.renderer,
@@ -256,7 +262,7 @@ fn print_rows(runs: &[DriverRun]) {
             run.seconds
         );
     }
-    println!(
+    outln!(
         "tolerances: radiance RMS ≤ {} % of the mean and ≤ {} % of pixels off by more than 5 % of \
          it, each pixel against the nearest of its reference's 3x3 neighbourhood; IDs exact up to \
          an edge",

@@ -49,7 +49,7 @@ fn probe(choice: BackendChoice) -> Result<Report> {
 
 pub fn run_info(args: &InfoArgs) -> Result<()> {
     if let Some(choice) = args.probe {
-        println!("{}", serde_json::to_string(&probe(choice)?)?);
+        outln!("{}", serde_json::to_string(&probe(choice)?)?);
         return Ok(());
     }
     let exe = std::env::current_exe()?;
@@ -66,23 +66,24 @@ pub fn run_info(args: &InfoArgs) -> Result<()> {
         match report {
             Some(r) => {
                 working += 1;
-                println!("{name}: works");
-                println!("  vendor      {}", r.vendor);
-                println!("  renderer    {}", r.renderer);
-                println!("  version     {} (GLSL {})", r.version, r.glsl);
-                println!(
+                outln!("{name}: works");
+                outln!("  vendor      {}", r.vendor);
+                outln!("  renderer    {}", r.renderer);
+                outln!("  version     {} (GLSL {})", r.version, r.glsl);
+                outln!(
                     "  max texture {0}x{0}, max renderbuffer {1}x{1}",
-                    r.max_texture_size, r.max_renderbuffer_size
+                    r.max_texture_size,
+                    r.max_renderbuffer_size
                 );
-                println!(
+                outln!(
                     "  float render targets (RGBA32F): {}",
                     if r.float_render_target { "yes" } else { "NO" }
                 );
-                println!("  KHR_debug: {}", if r.khr_debug { "yes" } else { "no" });
+                outln!("  KHR_debug: {}", if r.khr_debug { "yes" } else { "no" });
             }
             None => {
                 let why = String::from_utf8_lossy(&out.stderr);
-                println!(
+                outln!(
                     "{name}: not available: {}",
                     why.trim().trim_start_matches("error: ")
                 );

@@ -1,5 +1,12 @@
 //! The command line: one file per subcommand.
 
+/// `println!` for the reports the commands print on standard output (see [`print_out`]).
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        $crate::cli::print_out(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+
 pub mod bench;
 mod check;
 mod info;
@@ -58,5 +65,23 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Check(args) => check::run_check(&args),
         Command::Bench(args) => bench::run_bench(&args),
         Command::View(args) => view::run_view(&args),
+    }
+}
+
+/// Write to standard output without panicking when it is gone: a reader that stops early
+/// (`radiosity bench table1 | head`) ends the report, not the command, whose files are still
+/// written. Any other write error is reported once on standard error; nothing more is printed.
+pub fn print_out(text: std::fmt::Arguments) {
+    use std::io::Write;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    static GONE: AtomicBool = AtomicBool::new(false);
+    if GONE.load(Ordering::Relaxed) {
+        return;
+    }
+    if let Err(e) = std::io::stdout().lock().write_fmt(text) {
+        GONE.store(true, Ordering::Relaxed);
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            eprintln!("warning: cannot write to standard output ({e}); the rest of the report is not printed");
+        }
     }
 }

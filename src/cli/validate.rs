@@ -18,7 +18,7 @@ pub struct ValidateArgs {
 pub fn run_validate(args: &ValidateArgs) -> Result<()> {
     let ctx = GlContext::headless(args.backend)?;
     let info = &ctx.info;
-    println!(
+    outln!(
         "{} | {} | {} ({})",
         info.vendor,
         info.renderer,
@@ -33,7 +33,7 @@ pub fn run_validate(args: &ValidateArgs) -> Result<()> {
             if c.pass { "pass" } else { "FAIL" }
         );
     })?;
-    print!("{}", crate::validate::table(&checks));
+    crate::cli::print_out(format_args!("{}", crate::validate::table(&checks)));
     if let Some(path) = &args.json {
         crate::display::output::write_json(path, &checks)?;
     }

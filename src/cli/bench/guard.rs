@@ -29,7 +29,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let start = Instant::now();
     let (reference, reference_shots) =
         guard::reference(&scene, &layout, &configurations[0].1, args.threads)?;
-    println!(
+    outln!(
         "reference: CPU solver to {} unshot, {} shots, {:.1} s; bound {} %",
         guard::REFERENCE_THRESHOLD,
         reference_shots,
@@ -58,8 +58,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             results[k] = (shots, guard::mean_patch_difference(&atlas, &reference));
         }
     }
-    println!("| configuration | GPU loop s | shots | mean patch diff |");
-    println!("|---|---|---|---|");
+    outln!("| configuration | GPU loop s | shots | mean patch diff |");
+    outln!("|---|---|---|---|");
     let mut rows = Vec::new();
     for ((name, options), (times, (shots, difference))) in configurations
         .into_iter()
@@ -76,7 +76,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             shots,
             mean_patch_difference: difference,
         };
-        println!(
+        outln!(
             "| {} | {:.2} | {} | {:.2} % |",
             row.configuration,
             row.gpu_loop_s,

@@ -125,7 +125,7 @@ fn one(args: &BenchArgs, spec: &str) -> Result<()> {
         shots_to_convergence: 0,
         progress,
     };
-    println!("{}", serde_json::to_string(&run)?);
+    outln!("{}", serde_json::to_string(&run)?);
     Ok(())
 }
 
@@ -293,11 +293,11 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         }
     }
     let (machine, configuration, threshold, budget_s) = header;
-    println!(
+    outln!(
         "{machine}; configuration {configuration}, threshold {threshold}, budget {budget_s} s per run"
     );
-    println!("| room | scale | patches | solver | setup s | loop s | shots | s per shot | peak MiB | most time in |");
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    outln!("| room | scale | patches | solver | setup s | loop s | shots | s per shot | peak MiB | most time in |");
+    outln!("|---|---|---|---|---|---|---|---|---|---|");
     for r in &runs {
         let (loop_s, note) = if r.complete {
             (format!("{:.1}", r.loop_s), String::new())
@@ -310,7 +310,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 format!(" of {}", r.shots_to_convergence),
             )
         };
-        println!(
+        outln!(
             "| {} | {}x | {} | {} | {:.2} | {} | {}{} | {:.4} | {:.0} | {} |",
             r.room,
             r.scale,
@@ -326,7 +326,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         );
     }
     for (room, solver, e) in &exponents {
-        println!("exponent {room} {solver}: loop time ∝ patches^{e:.2}");
+        outln!("exponent {room} {solver}: loop time ∝ patches^{e:.2}");
     }
     if let Some(path) = &args.plot {
         let rgb = crate::display::scaling_plot::draw(&runs, &exponents)?;

@@ -173,7 +173,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         // driver is not part of a setup): one context made and dropped before.
         drop(GlContext::headless(args.backend)?);
         let (setup, run, shots, _) = gpu_run(args.backend, &scene, &layout, &options)?;
-        println!("setup_s {setup}\nloop_s {run}\nshots {shots}");
+        outln!("setup_s {setup}\nloop_s {run}\nshots {shots}");
         return Ok(());
     }
     let env_cold = shader_cache_disabled_by_env();
@@ -376,23 +376,26 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         peak_memory_mib: peak_memory_mib(),
         rows,
     };
-    println!(
+    outln!(
         "{} ({} cores); {} | {}",
-        report.machine, report.cores, report.gl_renderer, report.gl_version
+        report.machine,
+        report.cores,
+        report.gl_renderer,
+        report.gl_version
     );
-    println!("stopping rule: {}", report.stopping_rule);
-    println!("timing: {}", report.timing);
-    println!("shader cache: {}", report.shader_cache_note);
-    println!("accuracy: {}", report.guard);
+    outln!("stopping rule: {}", report.stopping_rule);
+    outln!("timing: {}", report.timing);
+    outln!("shader cache: {}", report.shader_cache_note);
+    outln!("accuracy: {}", report.guard);
     let gpu_header = if cold_child {
         "GPU setup s cold / warm | GPU loop s cold / warm".to_string()
     } else {
         format!("GPU setup s ({state}) | GPU loop s ({state})")
     };
-    println!(
+    outln!(
         "| scene | configuration | faces | vertices | lights | patches | shots GPU/CPU | CPU setup s | CPU loop s | {gpu_header} | CPU/GPU loops | mean patch diff | paper CPU s | paper GPU s | paper CPU/GPU |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    outln!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for r in &report.rows {
         let (setup, run) = match (r.gpu.setup_cold_s, r.gpu.loop_cold_s) {
             (Some(s), Some(l)) => (
@@ -407,7 +410,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         let difference = r
             .mean_patch_difference
             .map_or("—".to_string(), |d| format!("{:.2} %", 100.0 * d));
-        println!(
+        outln!(
             "| {} | {} | {} | {} | {} | {} | {}/{} | {:.3} | {:.2} | {} | {} | {:.2} | {} | {:.1} | {:.1} | {:.2} |",
             r.scene,
             r.configuration,
@@ -428,7 +431,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             r.paper_ratio
         );
     }
-    println!("peak memory: {:.0} MiB", report.peak_memory_mib);
+    outln!("peak memory: {:.0} MiB", report.peak_memory_mib);
     if let Some(path) = &args.json {
         crate::display::output::write_json(path, &report)?;
     }
