@@ -7,7 +7,8 @@
 //! `cargo run --release --example interleaved_ab -- SCENE.obj SHOTS A B`, where A and B are
 //! comma-separated changes to the fast configuration (`bench::fast_options`):
 //! `base` (none), `paper` (the paper-faithful row's options), `k1`..`k4` (shooters per pass),
-//! `no-overshoot`, `small=N` (the small shots' item-buffer side), or `-SWITCH` to turn off one
+//! `no-overshoot`, `small=N` (the small shots' item-buffer side), `min=N` (the smallest shots'
+//! side, `SolveOptions::min_hemi_res`), or `-SWITCH` to turn off one
 //! `Tuning` switch (`-marking_pass`, `-plates`, …).
 //! Switches of `Tuning` leave the answer as it is, so both solvers take the same shots; options
 //! that change the answer may make them take different ones.
@@ -35,6 +36,9 @@ fn configuration(changes: &str) -> SolveOptions {
             "no-overshoot" => o.overshoot = false,
             small if small.starts_with("small=") => {
                 o.small_hemi_res = small[6..].parse().expect("small=N: a resolution")
+            }
+            min if min.starts_with("min=") => {
+                o.min_hemi_res = min[4..].parse().expect("min=N: a resolution")
             }
             "-receivers_only" => t.receivers_only = false,
             "-marking_pass" => t.marking_pass = false,

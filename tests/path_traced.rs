@@ -219,6 +219,7 @@ fn the_speed_options_keep_the_cornell_box_within_3_percent() {
         overshoot: true,
         small_hemi_res: fast.small_hemi_res,
         small_shot: fast.small_shot,
+        min_hemi_res: fast.min_hemi_res,
         rotate_item_buffer: fast.rotate_item_buffer,
         shooters_per_pass: fast.shooters_per_pass,
         ..SolveOptions::accurate()
@@ -234,7 +235,7 @@ fn the_speed_options_keep_the_cornell_box_within_3_percent() {
     assert_quoted(
         "speed options, worst region %",
         100.0 * worst as f64,
-        "1.81",
+        "1.55",
     );
 }
 

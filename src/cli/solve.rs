@@ -113,6 +113,11 @@ pub struct SolveArgs {
         allow_hyphen_values = true,
     )]
     pub small_shot: f32,
+    /// Beyond the paper, for cheaper shots (needs --small-hemi-res): below --small-shot the
+    /// item buffer's side falls with the cube root of the shot's share of the emitted power,
+    /// down to N (16 to --small-hemi-res).
+    #[arg(long, value_parser = values::hemi_res(), allow_hyphen_values = true)]
+    pub min_hemi_res: Option<u32>,
     /// Beyond the paper, for accuracy: turn each shot's item buffer about the shooter's normal
     /// by its own angle, so that the aliasing of successive shots averages out.
     #[arg(long)]
@@ -174,6 +179,7 @@ impl SolveArgs {
             overshoot: self.overshoot,
             small_hemi_res: self.small_hemi_res.unwrap_or(0),
             small_shot: self.small_shot,
+            min_hemi_res: self.min_hemi_res.unwrap_or(0),
             rotate_item_buffer: self.rotate_item_buffer,
             shooters_per_pass: self.shooters_per_pass,
         }
@@ -397,6 +403,8 @@ pub(crate) fn with_flags(e: SolveError) -> anyhow::Error {
             Some("--patch-size / --patches")
         }
         SolveError::HemiRes { .. } => Some("--hemi-res"),
+        SolveError::SmallHemiRes { .. } => Some("--small-hemi-res"),
+        SolveError::MinHemiRes { .. } => Some("--min-hemi-res / --small-hemi-res"),
         SolveError::Tessellation(_) => Some("--tessellate"),
         SolveError::ShootersPerPass(_) => Some("--shooters-per-pass / --hemi-res"),
         SolveError::Threads { .. } => Some("--threads"),

@@ -85,6 +85,10 @@ impl<'a> GpuBackend<'a> {
                 full: options.hemi_res,
             });
         }
+        let min = options.min_hemi_res;
+        if min != 0 && (small == 0 || !(16..=small).contains(&min)) {
+            return Err(SolveError::MinHemiRes { min, small });
+        }
         let k = options.shooters_per_pass;
         if !(1..=super::MAX_SHOOTERS_PER_PASS).contains(&k) {
             return Err(SolveError::ShootersPerPass(k));

@@ -60,6 +60,11 @@ pub enum SolveError {
     )]
     SmallHemiRes { small: u32, full: u32 },
     #[error(
+        "the smallest shots' item-buffer resolution {min} needs a small shots' resolution at \
+         least as large (now {small}; 0: none) and is at least 16"
+    )]
+    MinHemiRes { min: u32, small: u32 },
+    #[error(
         "the emitters have no patches at this patch size ({patch_size} scene units): a light \
          smaller than a patch emits nothing; use a smaller patch size or more patches"
     )]
@@ -161,6 +166,10 @@ pub struct SolveOptions {
     pub small_hemi_res: u32,
     /// See `small_hemi_res`: a share of the emitted power, 0 to 1.
     pub small_shot: f32,
+    /// Beyond the paper, for cheaper shots: with `small_hemi_res`, the small shots' side falls
+    /// further with the cube root of their share of the emitted power, down to this (0: every
+    /// small shot at `small_hemi_res`; see [`item_buffer_side`]).
+    pub min_hemi_res: u32,
     /// Beyond the paper, for accuracy: each shot turns its item buffer about the shooter's
     /// normal by its own angle ([`turn_of_shot`]), so that the pixel grids of successive shots do
     /// not line up with the scene's edges, nor with one another: their aliasing averages out
@@ -196,6 +205,7 @@ impl SolveOptions {
             overshoot: false,
             small_hemi_res: 0,
             small_shot: 0.0,
+            min_hemi_res: 0,
             rotate_item_buffer: false,
             shooters_per_pass: 1,
         }
@@ -222,6 +232,25 @@ impl SolveOptions {
 impl Default for SolveOptions {
     fn default() -> Self {
         Self::accurate()
+    }
+}
+
+/// The item buffer's side for a shot that carries `share` of the emitted power (by magnitude:
+/// an overshot shooter's negative energy too): `hemi_res`, or `small_hemi_res` below
+/// `small_shot`; with `min_hemi_res`, below `small_shot` the side falls with the cube root of
+/// the share, to `min_hemi_res` at the least. Why the cube root: a shot's aliasing error grows
+/// with its power over its side, its cost with the side squared, and Σ error + λ Σ cost is
+/// least where side³ ∝ power.
+pub fn item_buffer_side(options: &SolveOptions, share: f64) -> u32 {
+    let o = options;
+    let small = share.abs() < o.small_shot as f64;
+    if o.small_hemi_res == 0 || !small {
+        o.hemi_res
+    } else if o.min_hemi_res == 0 {
+        o.small_hemi_res
+    } else {
+        let side = o.small_hemi_res as f64 * (share.abs() / o.small_shot as f64).cbrt();
+        (side.round() as u32).clamp(o.min_hemi_res, o.small_hemi_res)
     }
 }
 
@@ -345,5 +374,44 @@ mod tests {
                 .iter()
                 .all(|a| (0.0..=2.0 * std::f32::consts::TAU).contains(a)));
         }
+    }
+
+    #[test]
+    fn the_smallest_shots_get_sides_in_proportion_to_the_cube_root_of_their_power() {
+        let o = SolveOptions {
+            hemi_res: 256,
+            small_hemi_res: 128,
+            small_shot: 0.01,
+            min_hemi_res: 16,
+            ..SolveOptions::accurate()
+        };
+        // At and above the small shots' share: the full side.
+        assert_eq!(item_buffer_side(&o, 0.01), 256);
+        assert_eq!(item_buffer_side(&o, -0.5), 256);
+        // Just below: the small shots' side; an eighth of the share, half of it; by magnitude.
+        assert_eq!(item_buffer_side(&o, 0.009_999), 128);
+        assert_eq!(item_buffer_side(&o, 0.01 / 8.0), 64);
+        assert_eq!(item_buffer_side(&o, -0.01 / 64.0), 32);
+        // Never below the least, nor for a shot of nothing.
+        assert_eq!(item_buffer_side(&o, 1e-9), 16);
+        assert_eq!(item_buffer_side(&o, 0.0), 16);
+        // Falling with the share all the way.
+        let sides: Vec<u32> = (0..60)
+            .map(|k| item_buffer_side(&o, 0.0099 * 0.9f64.powi(k)))
+            .collect();
+        assert!(sides.windows(2).all(|w| w[1] <= w[0]), "{sides:?}");
+        // Without `min_hemi_res`, two sides only (the option as it was).
+        let two = SolveOptions {
+            min_hemi_res: 0,
+            ..o.clone()
+        };
+        assert_eq!(item_buffer_side(&two, 1e-9), 128);
+        assert_eq!(item_buffer_side(&two, 0.02), 256);
+        // Without `small_hemi_res`, one.
+        let one = SolveOptions {
+            small_hemi_res: 0,
+            ..o
+        };
+        assert_eq!(item_buffer_side(&one, 1e-9), 256);
     }
 }

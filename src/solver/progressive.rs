@@ -378,16 +378,9 @@ impl<'a, B: Backend> Solver<'a, B> {
         shooters
     }
 
-    /// The item-buffer resolution for shooter `s`: `small_hemi_res` for a shot that carries less
-    /// than `small_shot` of the emitted power (`SolveOptions::small_hemi_res`), else `hemi_res`.
+    /// The item-buffer resolution for shooter `s` ([`super::item_buffer_side`]).
     fn item_buffer_resolution(&self, s: &Shooter) -> u32 {
-        let o = &self.options;
-        let small = s.power().abs() < o.small_shot as f64 * self.ledger.emitted_power();
-        if o.small_hemi_res > 0 && small {
-            o.small_hemi_res
-        } else {
-            o.hemi_res
-        }
+        super::item_buffer_side(&self.options, s.power() / self.ledger.emitted_power())
     }
 
     pub fn converged(&self) -> bool {

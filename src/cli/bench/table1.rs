@@ -343,14 +343,15 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         stopping_rule: format!(
             "unshot power / emitted power <= {}; whole polygons shoot (one pass per shot, as in \
              the paper), polygon form factor, {}² hemicube; fast: the same with overshooting and \
-             the item buffer at {}² for shots over {} of the emitted power, {}² for the others, \
-             turned about the shooter's normal shot by shot, {} shooters per reconstruction \
-             pass; median of {} run(s)",
+             the item buffer at {}² for shots over {} of the emitted power, below that from {}² \
+             down to {}² with the cube root of the shot's share, turned about the shooter's \
+             normal shot by shot, {} shooters per reconstruction pass; median of {} run(s)",
             args.threshold,
             options.hemi_res,
             super::FAST_HEMI_RES,
             crate::solver::SMALL_SHOT,
             super::FAST_SMALL_HEMI_RES,
+            super::FAST_MIN_HEMI_RES,
             super::FAST_SHOOTERS_PER_PASS,
             args.repeat
         ),
