@@ -188,20 +188,18 @@ fn small_shots_draw_a_smaller_item_buffer() {
         );
     }
     // A resolution above the item buffer's is refused with both named.
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_radiosity"))
-        .args([
-            "solve",
-            "--hemi-res",
-            "64",
-            "--small-hemi-res",
-            "128",
-            "--out",
-        ])
-        .arg(dir.path().join("refused"))
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    let out = dir.path().join("refused");
+    let args = [
+        "solve",
+        "--hemi-res",
+        "64",
+        "--small-hemi-res",
+        "128",
+        "--out",
+    ]
+    .iter();
+    let (code, stderr) = run_refused(args.map(std::ffi::OsStr::new).chain([out.as_os_str()]));
+    assert_eq!(code, 1, "{stderr}");
     assert!(
         stderr.contains("128") && stderr.contains("16..=64"),
         "{stderr}"
@@ -251,15 +249,13 @@ fn the_smallest_shots_draw_smaller_still() {
         &["--min-hemi-res", "16"][..],
         &["--small-hemi-res", "32", "--min-hemi-res", "64"],
     ] {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_radiosity"))
-            .args(["solve", "--max-shots", "1"])
-            .args(extra)
-            .arg("--out")
-            .arg(dir.path().join("refused"))
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        let out = dir.path().join("refused");
+        let args = ["solve", "--max-shots", "1"]
+            .iter()
+            .chain(extra)
+            .chain(&["--out"]);
+        let (code, stderr) = run_refused(args.map(std::ffi::OsStr::new).chain([out.as_os_str()]));
+        assert_eq!(code, 1, "{stderr}");
         assert!(
             stderr.contains("smallest shots") && stderr.contains("--min-hemi-res"),
             "{stderr}"
@@ -440,15 +436,9 @@ fn shooters_per_pass_from_the_command_line() {
         .collect();
     assert_eq!(shots, [1, 3, 5, 7, 9], "{shots:?}");
     let refused = |extra: &[&str], needle: &str| {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_radiosity"))
-            .arg("solve")
-            .args(extra)
-            .arg("--out")
-            .arg(dir.path().join("refused"))
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_ne!(out.status.code(), Some(0), "{stderr}");
+        let out = dir.path().join("refused");
+        let args = ["solve"].iter().chain(extra).chain(&["--out"]);
+        let (_, stderr) = run_refused(args.map(std::ffi::OsStr::new).chain([out.as_os_str()]));
         assert!(stderr.contains(needle), "{stderr}");
     };
     refused(&["--shooters-per-pass", "5"], "1..=4");

@@ -108,6 +108,17 @@ pub fn assert_quoted(what: &str, value: f64, quoted: &str) {
     );
 }
 
+/// Run `radiosity` with `args`, require that it fails, and return its exit code and stderr.
+pub fn run_refused<'a>(args: impl IntoIterator<Item = &'a std::ffi::OsStr>) -> (i32, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args(args)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "accepted: {stderr}");
+    (out.status.code().unwrap_or(-1), stderr)
+}
+
 /// Run `radiosity` with `args`, require success, and return (and print) its stdout.
 pub fn run_ok<'a>(args: impl IntoIterator<Item = &'a std::ffi::OsStr>) -> String {
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_radiosity"))
