@@ -189,16 +189,16 @@ fn small_shots_draw_a_smaller_item_buffer() {
     }
     // A resolution above the item buffer's is refused with both named.
     let out = dir.path().join("refused");
-    let args = [
+    let out = out.to_str().unwrap();
+    let (code, stderr) = run_refused(&[
         "solve",
         "--hemi-res",
         "64",
         "--small-hemi-res",
         "128",
         "--out",
-    ]
-    .iter();
-    let (code, stderr) = run_refused(args.map(std::ffi::OsStr::new).chain([out.as_os_str()]));
+        out,
+    ]);
     assert_eq!(code, 1, "{stderr}");
     assert!(
         stderr.contains("128") && stderr.contains("16..=64"),
@@ -250,11 +250,9 @@ fn the_smallest_shots_draw_smaller_still() {
         &["--small-hemi-res", "32", "--min-hemi-res", "64"],
     ] {
         let out = dir.path().join("refused");
-        let args = ["solve", "--max-shots", "1"]
-            .iter()
-            .chain(extra)
-            .chain(&["--out"]);
-        let (code, stderr) = run_refused(args.map(std::ffi::OsStr::new).chain([out.as_os_str()]));
+        let out = out.to_str().unwrap();
+        let (code, stderr) =
+            run_refused(&[&["solve", "--max-shots", "1"], extra, &["--out", out]].concat());
         assert_eq!(code, 1, "{stderr}");
         assert!(
             stderr.contains("smallest shots") && stderr.contains("--min-hemi-res"),
@@ -437,8 +435,8 @@ fn shooters_per_pass_from_the_command_line() {
     assert_eq!(shots, [1, 3, 5, 7, 9], "{shots:?}");
     let refused = |extra: &[&str], needle: &str| {
         let out = dir.path().join("refused");
-        let args = ["solve"].iter().chain(extra).chain(&["--out"]);
-        let (_, stderr) = run_refused(args.map(std::ffi::OsStr::new).chain([out.as_os_str()]));
+        let out = out.to_str().unwrap();
+        let (_, stderr) = run_refused(&[&["solve"], extra, &["--out", out]].concat());
         assert!(stderr.contains(needle), "{stderr}");
     };
     refused(&["--shooters-per-pass", "5"], "1..=4");

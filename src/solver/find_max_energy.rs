@@ -119,10 +119,10 @@ impl EnergyTotals {
 /// to the lower index. One scan, each score computed once (the complex room has 8,549 polygons,
 /// and the loop waits for this between shots), keeping the best `count` in order.
 pub fn largest(n: usize, count: usize, floor: f64, score: impl Fn(usize) -> f64) -> Vec<usize> {
-    let mut best: Vec<(f64, usize)> = Vec::with_capacity(count + 1);
     if count == 0 {
         return Vec::new();
     }
+    let mut best: Vec<(f64, usize)> = Vec::with_capacity(count + 1);
     for p in 0..n {
         let f = score(p);
         // `>`: a NaN is never picked, and a later index never passes an equal score.

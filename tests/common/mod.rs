@@ -109,7 +109,7 @@ pub fn assert_quoted(what: &str, value: f64, quoted: &str) {
 }
 
 /// Run `radiosity` with `args`, require that it fails, and return its exit code and stderr.
-pub fn run_refused<'a>(args: impl IntoIterator<Item = &'a std::ffi::OsStr>) -> (i32, String) {
+pub fn run_refused(args: &[&str]) -> (i32, String) {
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_radiosity"))
         .args(args)
         .output()
