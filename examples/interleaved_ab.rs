@@ -6,7 +6,7 @@
 //!
 //! `cargo run --release --example interleaved_ab -- SCENE.obj SHOTS A B`, where A and B are
 //! comma-separated changes to the fast configuration (`bench::fast_options`):
-//! `base` (none), `paper` (the paper-faithful row's options), `k1`..`k4` (shooters per pass),
+//! `base` (none), `paper` (the paper-faithful row's options), `kN` (N shooters per pass),
 //! `no-overshoot`, `small=N` (the small shots' item-buffer side), `min=N` (the smallest shots'
 //! side, `SolveOptions::min_hemi_res`), or `-SWITCH` to turn off one
 //! `Tuning` switch (`-marking_pass`, `-plates`, …).
@@ -32,7 +32,7 @@ fn configuration(changes: &str) -> SolveOptions {
         match change {
             "" | "base" => {}
             "paper" => o = bench_options(0.01),
-            "k1" | "k2" | "k3" | "k4" => o.shooters_per_pass = change[1..].parse().unwrap(),
+            k if k.starts_with('k') => o.shooters_per_pass = k[1..].parse().expect("kN: a count"),
             "no-overshoot" => o.overshoot = false,
             small if small.starts_with("small=") => {
                 o.small_hemi_res = small[6..].parse().expect("small=N: a resolution")
@@ -51,6 +51,7 @@ fn configuration(changes: &str) -> SolveOptions {
             "-half_side_faces" => t.half_side_faces = false,
             "-plates" => t.plates = false,
             "-cull_solids" => t.cull_solids = false,
+            "-cull_between_samples" => t.cull_between_samples = false,
             "-flush_visibility" => t.flush_visibility = false,
             other => panic!("unknown change '{other}' (see the file's comment)"),
         }
@@ -108,5 +109,11 @@ fn main() {
         seconds[1],
         shot(1),
         seconds[1] / seconds[0]
+    );
+    let missed = |k: usize| solvers[k].backend().visibility.missed;
+    println!(
+        "polygon views left out between pixel centres: A {}, B {}",
+        missed(0),
+        missed(1)
     );
 }

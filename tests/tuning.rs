@@ -201,6 +201,39 @@ fn leaving_out_the_far_faces_of_solids_changes_nothing_but_float_noise() {
 }
 
 #[test]
+fn leaving_out_polygons_between_pixel_centres_changes_no_pixel() {
+    let off = |t: &mut Tuning| t.cull_between_samples = false;
+    on_both_rooms(off, |name, mut culled, mut whole| {
+        assert_eq!(step_both(name, &mut culled, &mut whole, 40), 0.0, "{name}");
+    });
+    // The fast configuration's small item buffers (16² to 128² per face), where the simple
+    // room's door handles, picture frames and skirting fall between the centres: the same
+    // pixels, shot after shot.
+    let scene = load("simple");
+    let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
+    let (_one_at_a_time, ctx) = serial_context();
+    let fast = gpu_radiosity::cli::bench::fast_options(0.01);
+    let mut whole_options = fast.clone();
+    off(&mut whole_options.tuning);
+    let mut culled = GpuSolver::new(&ctx, &scene, &layout, fast).unwrap();
+    let mut whole = GpuSolver::new(&ctx, &scene, &layout, whole_options).unwrap();
+    for step in 0..150 {
+        let x = culled.step().unwrap().unwrap();
+        let y = whole.step().unwrap().unwrap();
+        assert_eq!(x.shooter, y.shooter, "step {step}");
+        let ids = |s: &GpuSolver| s.backend().visibility.read_ids();
+        assert!(
+            ids(&culled) == ids(&whole),
+            "step {step}: the item buffers differ"
+        );
+    }
+    assert_eq!(culled.radiosity_atlas(), whole.radiosity_atlas());
+    let missed = culled.backend().visibility.missed;
+    assert!(missed > 1000, "{missed} polygon views left out");
+    assert_eq!(whole.backend().visibility.missed, 0);
+}
+
+#[test]
 fn flushing_after_the_visibility_pass_changes_nothing() {
     let off = |t: &mut Tuning| t.flush_visibility = false;
     on_both_rooms(off, |name, mut flushed, mut queued| {

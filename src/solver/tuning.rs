@@ -78,6 +78,12 @@ pub struct Tuning {
     /// that change are those whose centres lie on an edge where a near and a far face meet (a
     /// depth tie; 715 of 37.5 million on the simple room).
     pub cull_solids: bool,
+    /// Visibility (hemicube): each view leaves out the polygons whose projected corners span no
+    /// pixel centre across or none up and down (`visibility::samples`): the item buffer has one
+    /// sample per pixel, so they would make no fragment. Small shots draw 16² to 60² pixels
+    /// per face, where a book's spine is a fraction of a pixel, and llvmpipe sets up and bins
+    /// every triangle it is given on one thread. Bit-identical.
+    pub cull_between_samples: bool,
     /// Visibility: a glFlush at the end of the pass, so that llvmpipe rasterises the item
     /// buffer while the CPU picks the receivers (otherwise it waits until the reconstruction
     /// binds the item buffer). Bit-identical.
@@ -106,6 +112,7 @@ impl Tuning {
             half_side_faces: true,
             plates: true,
             cull_solids: true,
+            cull_between_samples: true,
             flush_visibility: true,
             float_depth: true,
         }
@@ -129,6 +136,7 @@ impl Tuning {
             half_side_faces: false,
             plates: false,
             cull_solids: false,
+            cull_between_samples: false,
             flush_visibility: false,
             float_depth: true,
         }

@@ -20,6 +20,7 @@
 //! solids left out (`solids`), float depth, and a glFlush at the end.
 
 pub mod plates;
+pub mod samples;
 pub mod solids;
 
 use super::mesh::{SceneMesh, ATTRIBUTES};
@@ -33,6 +34,7 @@ use crate::scene::Scene;
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
 use plates::Plates;
+use samples::Outlines;
 use solids::Solids;
 
 pub struct VisibilityPass {
@@ -71,6 +73,11 @@ pub struct VisibilityPass {
     outside: Vec<bool>,
     /// Coplanar polygons drawn as one (`merge_plates`; at first every polygon alone).
     plates: Plates,
+    /// Each drawn polygon's corners, for `Tuning::cull_between_samples`.
+    outlines: Outlines,
+    /// How many times a view left a polygon out as falling between the pixel centres, over all
+    /// passes (`Tuning::cull_between_samples`).
+    pub missed: u64,
 }
 
 pub const NAME: &str = "visibility";
@@ -221,7 +228,9 @@ impl VisibilityPass {
             solids: Solids::find(scene),
             planes: scene.polygons.iter().map(|p| p.plane()).collect(),
             outside: Vec::new(),
+            outlines: Outlines::new(scene, &Plates::none(scene.polygons.len())),
             plates: Plates::none(scene.polygons.len()),
+            missed: 0,
         })
     }
 
@@ -238,6 +247,7 @@ impl VisibilityPass {
             for (&p, outline) in &self.plates.outlines {
                 self.spheres[p] = sphere_around(mean(outline), outline);
             }
+            self.outlines = Outlines::new(scene, &self.plates);
         }
         &self.plates
     }
@@ -323,13 +333,20 @@ impl VisibilityPass {
         // the near plane (no vertex to clip: llvmpipe's fast path), then the others; without
         // `split_unclipped`, all of them as "others", in the scene's order.
         let mut ranges = [(0usize, 0usize, 0usize); 5];
+        // This shot's resolution (`SolveOptions::small_hemi_res`): the views fill the item
+        // buffer's lower-left corner, and the reconstruction pass looks up only that.
+        let r = (shooter.hemi_res as i32).clamp(1, self.resolution);
         let g = self.guard as f32;
         let side = (1.0 + g * g).sqrt();
         let near = self.near_far[0];
         self.indices.clear();
+        // Pixels across per unit of tangent, to tell which polygons project small enough to
+        // fall between the pixel centres (`samples`).
+        let pixels_per_tangent = r as f32 / 2.0;
         for (k, range) in ranges.iter_mut().enumerate().take(views) {
             let start = self.indices.len();
             self.clipped.clear();
+            let face = Mat4::from_mat3(rotations[k]) * view;
             for &(p, c, radius) in &self.in_front {
                 let mut inside = false;
                 if self.kind == VisibilityKind::Hemicube {
@@ -339,6 +356,20 @@ impl VisibilityPass {
                     let reach = radius * std::f32::consts::SQRT_2;
                     if tuning.cull_views && (-f.z - f.x.abs() < -reach || -f.z - f.y.abs() < -reach)
                     {
+                        continue;
+                    }
+                    let depth = -f.z - radius;
+                    if tuning.cull_between_samples
+                        && depth > 2.0 * near
+                        && 2.0 * radius / depth * pixels_per_tangent < samples::MAX_EXTENT
+                        && samples::misses_every_centre(
+                            self.outlines.of(p),
+                            &face,
+                            r as f32,
+                            2.0 * near,
+                        )
+                    {
+                        self.missed += 1;
                         continue;
                     }
                     // Inside the guarded side planes (normals (±1, 0, -g)/√(1 + g²), ...).
@@ -361,9 +392,6 @@ impl VisibilityPass {
         }
         self.stream.upload(&self.indices);
 
-        // This shot's resolution (`SolveOptions::small_hemi_res`): the views fill the item
-        // buffer's lower-left corner, and the reconstruction pass looks up only that.
-        let r = (shooter.hemi_res as i32).clamp(1, self.resolution);
         let (width, height) = (target.item_buffer.width / self.resolution * r, r);
         self.drawn = (width, height);
         target.fbo.bind();
