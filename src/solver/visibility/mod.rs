@@ -211,6 +211,7 @@ impl VisibilityPass {
         } else {
             1
         };
+        let plates = Plates::none(scene.polygons.len());
         Ok(VisibilityPass {
             program,
             kind,
@@ -228,8 +229,8 @@ impl VisibilityPass {
             solids: Solids::find(scene),
             planes: scene.polygons.iter().map(|p| p.plane()).collect(),
             outside: Vec::new(),
-            outlines: Outlines::new(scene, &Plates::none(scene.polygons.len())),
-            plates: Plates::none(scene.polygons.len()),
+            outlines: Outlines::new(scene, &plates),
+            plates,
             missed: 0,
         })
     }
@@ -487,7 +488,12 @@ impl VisibilityPass {
     /// The (first slot's) item buffer as polygon IDs (`None` where no polygon is seen), rows
     /// bottom to top.
     pub fn read_ids(&self) -> Vec<Option<u32>> {
-        self.item_buffer()
+        self.read_slot_ids(0)
+    }
+
+    /// Slot `slot`'s item buffer as [`read_ids`](Self::read_ids) gives the first.
+    pub fn read_slot_ids(&self, slot: usize) -> Vec<Option<u32>> {
+        self.slot_texture(slot)
             .read_u8()
             .chunks_exact(4)
             .map(|c| {
