@@ -170,13 +170,9 @@ fn overshooting_converges_to_the_same_solution_in_fewer_shots() {
 #[test]
 fn small_shots_draw_a_smaller_item_buffer() {
     let dir = tempfile::tempdir().unwrap();
-    let args = ["solve", "--shooter-cell", "0", "--emitter-cell", "0"]
-        .into_iter()
-        .chain(["--small-hemi-res", "64", "--small-shot", "0.5"])
-        .chain(["--dump-passes", "1,5", "--max-shots", "5", "--out"])
-        .map(std::ffi::OsStr::new)
-        .chain([dir.path().as_os_str()]);
-    run_ok(args);
+    let options = ["--small-hemi-res", "64", "--small-shot", "0.5"];
+    let run = ["--dump-passes", "1,5", "--max-shots", "5"];
+    solve_whole_polygons(dir.path(), &[&options[..], &run].concat());
     for (shot, size) in [(1, (1280, 256)), (5, (320, 64))] {
         let png = image::open(dir.path().join(format!("shot-{shot:03}-itembuffer.png"))).unwrap();
         assert_eq!((png.width(), png.height()), size, "shot {shot}");
@@ -212,14 +208,16 @@ fn small_shots_draw_a_smaller_item_buffer() {
 #[test]
 fn the_smallest_shots_draw_smaller_still() {
     let dir = tempfile::tempdir().unwrap();
-    let args = ["solve", "--shooter-cell", "0", "--emitter-cell", "0"]
-        .into_iter()
-        .chain(["--small-hemi-res", "128", "--small-shot", "0.5"])
-        .chain(["--min-hemi-res", "16", "--dump-passes", "1,2,5,9"])
-        .chain(["--max-shots", "9", "--out"])
-        .map(std::ffi::OsStr::new)
-        .chain([dir.path().as_os_str()]);
-    run_ok(args);
+    let options = [
+        "--small-hemi-res",
+        "128",
+        "--small-shot",
+        "0.5",
+        "--min-hemi-res",
+        "16",
+    ];
+    let run = ["--dump-passes", "1,2,5,9", "--max-shots", "9"];
+    solve_whole_polygons(dir.path(), &[&options[..], &run].concat());
     let stats: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.path().join("stats.json")).unwrap()).unwrap();
     assert_eq!(stats["min_hemi_res"], 16);
@@ -269,21 +267,8 @@ fn the_item_buffer_turns_shot_by_shot() {
     let dir = tempfile::tempdir().unwrap();
     let solve = |name: &str, extra: &[&str]| {
         let out = dir.path().join(name);
-        let args = [
-            "solve",
-            "--shooter-cell",
-            "0",
-            "--emitter-cell",
-            "0",
-            "--hemi-res",
-            "64",
-        ]
-        .into_iter()
-        .chain(extra.iter().copied())
-        .chain(["--dump-passes", "1,2", "--max-shots", "2", "--out"])
-        .map(std::ffi::OsStr::new)
-        .chain([out.as_os_str()]);
-        run_ok(args);
+        let run = ["--dump-passes", "1,2", "--max-shots", "2"];
+        solve_whole_polygons(&out, &[&["--hemi-res", "64"], extra, &run].concat());
         out
     };
     let (plain, turned) = (
@@ -417,12 +402,7 @@ fn the_shooters_of_one_pass_shoot_simultaneously() {
 fn shooters_per_pass_from_the_command_line() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("two");
-    let args = ["solve", "--shooter-cell", "0", "--emitter-cell", "0"]
-        .into_iter()
-        .chain(["--shooters-per-pass", "2", "--max-shots", "9", "--out"])
-        .map(std::ffi::OsStr::new)
-        .chain([out.as_os_str()]);
-    run_ok(args);
+    solve_whole_polygons(&out, &["--shooters-per-pass", "2", "--max-shots", "9"]);
     let stats: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("stats.json")).unwrap()).unwrap();
     assert_eq!(stats["shooters_per_pass"], 2, "{stats}");
@@ -488,4 +468,16 @@ fn shooters_per_pass_converge_to_the_same_solution() {
     );
     assert!(three_passes * 2 < one_passes, "{three_passes} passes");
     assert!(d < 1e-4, "mean patch difference {d}");
+}
+
+/// `radiosity solve` of the default scene with whole polygons shooting and emitting (no cells)
+/// and `args`, into `out`.
+fn solve_whole_polygons(out: &std::path::Path, args: &[&str]) {
+    let args = ["solve", "--shooter-cell", "0", "--emitter-cell", "0"]
+        .iter()
+        .chain(args)
+        .chain(&["--out"])
+        .map(std::ffi::OsStr::new)
+        .chain([out.as_os_str()]);
+    run_ok(args);
 }
