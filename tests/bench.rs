@@ -173,3 +173,42 @@ fn scaling_reports_each_size_and_solver_with_an_exponent_and_a_plot() {
         std::fs::read(&again).unwrap()
     );
 }
+
+#[test]
+fn scaling_times_the_fast_configuration_when_asked() {
+    use gpu_radiosity::cli::bench::{bench_options, fast_options, gpu_run, room};
+    use gpu_radiosity::gl::BackendChoice;
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("scaling-fast.json");
+    run_ok(
+        [
+            "bench",
+            "scaling",
+            "--configuration",
+            "fast",
+            "--scenes",
+            "simple",
+        ]
+        .map(std::ffi::OsStr::new)
+        .into_iter()
+        .chain(["--scales", "1", "--threshold", "0.2"].map(std::ffi::OsStr::new))
+        .chain(["--json".as_ref(), json.as_os_str()]),
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["configuration"], "fast");
+    let runs = report["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 2, "one size, two solvers");
+    // The child solved with the fast options: its GPU shots are those of a solve with them here,
+    // which differ from the paper-faithful configuration's.
+    let (scene, layout) = room("simple").unwrap();
+    let shots = |options| {
+        gpu_run(BackendChoice::Auto, &scene, &layout, &options)
+            .unwrap()
+            .2
+    };
+    let fast = shots(fast_options(0.2));
+    assert_eq!(runs[0]["solver"], "gpu");
+    assert_eq!(runs[0]["shots"].as_u64(), Some(fast as u64), "{}", runs[0]);
+    assert_ne!(fast, shots(bench_options(0.2)));
+}

@@ -1,5 +1,5 @@
-//! `docs/scaling.png` (`radiosity bench scaling --plot`): loop seconds against patches, log-log,
-//! one line per room and solver; extrapolated points hollow. Drawn like `plot.rs`.
+//! `docs/scaling.png` and `docs/scaling-fast.png` (`radiosity bench scaling --plot`): loop
+//! seconds against patches, log-log, one line per room and solver; extrapolated points hollow. Drawn like `plot.rs`.
 
 use crate::cli::bench::scaling::Run;
 use anyhow::{anyhow, Result};
@@ -7,8 +7,13 @@ use plotters::prelude::*;
 
 pub const SIZE: (u32, u32) = (900, 600);
 
-/// The plot as RGB pixels, rows top to bottom, [`SIZE`]. `exponents`: (room, solver, slope).
-pub fn draw(runs: &[Run], exponents: &[(String, String, f64)]) -> Result<Vec<u8>> {
+/// The plot as RGB pixels, rows top to bottom, [`SIZE`]. `exponents`: (room, solver, slope);
+/// `configuration`: the configuration timed (`paper-faithful` or `fast`), named in the caption.
+pub fn draw(
+    runs: &[Run],
+    exponents: &[(String, String, f64)],
+    configuration: &str,
+) -> Result<Vec<u8>> {
     super::plot::register_font();
     let error = |e: &dyn std::fmt::Display| anyhow!("cannot draw the scaling plot: {e}");
     let mut rgb = vec![255u8; SIZE.0 as usize * SIZE.1 as usize * 3];
@@ -20,7 +25,10 @@ pub fn draw(runs: &[Run], exponents: &[(String, String, f64)]) -> Result<Vec<u8>
         let (x0, x1) = xs.fold((f64::MAX, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
         let (y0, y1) = ys.fold((f64::MAX, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
         let mut chart = ChartBuilder::on(&root)
-            .caption("Loop time against patches (log-log)", ("sans-serif", 22))
+            .caption(
+                format!("Loop time against patches (log-log), {configuration} configuration"),
+                ("sans-serif", 22),
+            )
             .margin(16)
             .x_label_area_size(50)
             .y_label_area_size(70)

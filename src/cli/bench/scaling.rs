@@ -329,7 +329,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         outln!("exponent {room} {solver}: loop time ∝ patches^{e:.2}");
     }
     if let Some(path) = &args.plot {
-        let rgb = crate::display::scaling_plot::draw(&runs, &exponents)?;
+        let rgb = crate::display::scaling_plot::draw(&runs, &exponents, &configuration)?;
         let (width, height) = crate::display::scaling_plot::SIZE;
         crate::display::output::write_atomic(
             path,
