@@ -1,5 +1,6 @@
 //! `docs/scaling.png` and `docs/scaling-fast.png` (`radiosity bench scaling --plot`): loop
-//! seconds against patches, log-log, one line per room and solver; extrapolated points hollow. Drawn like `plot.rs`.
+//! seconds against patches, log-log, one line per room and solver, the configuration in the
+//! caption; extrapolated points hollow. Drawn like `plot.rs`.
 
 use crate::cli::bench::scaling::Run;
 use anyhow::{anyhow, Result};
