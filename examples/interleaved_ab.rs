@@ -6,7 +6,8 @@
 //!
 //! `cargo run --release --example interleaved_ab -- SCENE.obj SHOTS A B`, where A and B are
 //! comma-separated changes to the fast configuration (`bench::fast_options`):
-//! `base` (none), `paper` (the paper-faithful row's options), `kN` (N shooters per pass),
+//! `base` (none), `paper` (the paper-faithful row's options), `accurate` (`radiosity solve`'s
+//! default mode), `kN` (N shooters per pass),
 //! `no-overshoot`, `small=N` (the small shots' item-buffer side), `min=N` (the smallest shots'
 //! side, `SolveOptions::min_hemi_res`), or `-SWITCH` to turn off one
 //! `Tuning` switch (`-marking_pass`, `-plates`, …).
@@ -32,6 +33,7 @@ fn configuration(changes: &str) -> SolveOptions {
         match change {
             "" | "base" => {}
             "paper" => o = bench_options(0.01),
+            "accurate" => o = SolveOptions::accurate(),
             k if k.starts_with('k') => o.shooters_per_pass = k[1..].parse().expect("kN: a count"),
             "no-overshoot" => o.overshoot = false,
             small if small.starts_with("small=") => {
