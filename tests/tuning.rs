@@ -54,8 +54,13 @@ fn skipping_needless_clipping_changes_nothing_but_float_noise() {
     // Blocks whose receivers all have the whole shooter above their plane are drawn with the
     // shader variant that does not clip it: the same contour integral, so the same lightmaps up
     // to float rounding.
+    // The variant needs the receivers' flags, so both solvers pick the receivers.
+    let receivers = |t: &mut Tuning| {
+        t.receivers_only = true;
+        t.skip_needless_clipping = true;
+    };
     let off = |t: &mut Tuning| t.skip_needless_clipping = false;
-    on_both_rooms(off, |name, mut split, mut clipped| {
+    on_both_rooms_from(receivers, off, |name, mut split, mut clipped| {
         let (mut cheap, mut full) = (0, 0);
         for _ in 0..40 {
             let a = split.step().unwrap().unwrap();
@@ -88,6 +93,24 @@ fn skipping_needless_clipping_changes_nothing_but_float_noise() {
             "cornell" => assert_quoted("cornell: L1 difference", diff / total, "1.3e-8"),
             _ => assert_eq!(diff, 0.0, "{name}: L1 difference"),
         }
+    });
+}
+
+#[test]
+fn drawing_only_the_receivers_gives_the_same_lightmaps() {
+    // The polygons left out can receive nothing from the shooter; their texels keep the last
+    // copy's values, which are the textures'.
+    let on = |t: &mut Tuning| t.receivers_only = true;
+    on_both_rooms(on, |name, mut every, mut receivers| {
+        let (mut all, mut fewer) = (0, 0);
+        for _ in 0..40 {
+            let d = step_both(name, &mut every, &mut receivers, 1);
+            assert_eq!(d, 0.0, "{name}: L1 difference {d}");
+            all += every.backend().reconstruction.texels_drawn();
+            fewer += receivers.backend().reconstruction.texels_drawn();
+        }
+        eprintln!("{name}: texels drawn {all} (every polygon), {fewer} (receivers only)");
+        assert!(fewer < all, "{name}: receivers_only left nothing out");
     });
 }
 
@@ -286,6 +309,15 @@ fn step_both(name: &str, a: &mut GpuSolver<'_>, b: &mut GpuSolver<'_>, shots: u3
 /// bench's.
 fn on_both_rooms(
     tweak: impl Fn(&mut Tuning),
+    check: impl FnMut(&str, GpuSolver<'_>, GpuSolver<'_>),
+) {
+    on_both_rooms_from(|_| {}, tweak, check)
+}
+
+/// [`on_both_rooms`] with `base` applied to both solvers' tuning first.
+fn on_both_rooms_from(
+    base: impl Fn(&mut Tuning),
+    tweak: impl Fn(&mut Tuning),
     mut check: impl FnMut(&str, GpuSolver<'_>, GpuSolver<'_>),
 ) {
     for (name, options) in [
@@ -298,6 +330,8 @@ fn on_both_rooms(
             .map_or(Resolution::Patches(4096), Resolution::PatchSize);
         let layout = PatchLayout::new(&scene, resolution);
         let (_one_at_a_time, ctx) = serial_context();
+        let mut options = options;
+        base(&mut options.tuning);
         let mut tweaked = options.clone();
         tweak(&mut tweaked.tuning);
         let a = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();

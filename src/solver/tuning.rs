@@ -24,6 +24,11 @@ pub struct Tuning {
     /// the shooter's texels. The others would add exactly zero; their renderbuffer texels keep
     /// what the last `glCopyTexSubImage2D` copied into the textures, which is what the textures
     /// hold. Off: every patch of the atlas is drawn each pass, as the paper draws the scene.
+    /// Off in [`Tuning::llvmpipe`] too: with the marking pass, a texel the shooter cannot see
+    /// costs only its visibility test, while choosing the receivers costs the main thread time
+    /// before each draw and breaks the cover into more, smaller squares; drawing everything
+    /// measured about 5 % faster on both rooms (docs/perf-log.md). Kept, and tested, for a
+    /// driver where shading costs more than choosing.
     pub receivers_only: bool,
     /// Reconstruction: a first draw runs only the visibility test and writes depth where a texel
     /// is seen from the shooter; the form factors then run with depth test EQUAL, which llvmpipe
@@ -33,7 +38,10 @@ pub struct Tuning {
     pub marking_pass: bool,
     /// Reconstruction: the blocks whose polygons all have the whole shooter above their plane are
     /// drawn with a shader variant that does not clip the shooter to the receiver's tangent plane
-    /// (a third fewer instructions). Same sums up to float rounding (within 1e-6).
+    /// (a third fewer instructions). Same sums up to float rounding (within 1e-6). Needs the
+    /// receivers' flags of `receivers_only` (and the marking pass), so off in
+    /// [`Tuning::llvmpipe`] with it: drawing everything with the clipping shader measured faster
+    /// than splitting the cover between the two.
     pub skip_needless_clipping: bool,
     /// Reconstruction: quadrilateral shooters (the rooms' usual case) use a variant compiled for
     /// four corners, whose loops unroll (llvmpipe fetches a uniform array indexed by a run-time
@@ -98,12 +106,13 @@ pub struct Tuning {
 }
 
 impl Tuning {
-    /// Everything on: the default for the accurate mode and the benchmarks.
+    /// Everything that pays on llvmpipe (all but `receivers_only` and `skip_needless_clipping`):
+    /// the default for the accurate mode and the benchmarks.
     pub const fn llvmpipe() -> Self {
         Tuning {
-            receivers_only: true,
+            receivers_only: false,
             marking_pass: true,
-            skip_needless_clipping: true,
+            skip_needless_clipping: false,
             unroll_quads: true,
             squares_as_points: true,
             guard_band: 7,

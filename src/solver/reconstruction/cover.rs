@@ -26,6 +26,8 @@ pub(super) struct Squares {
     cover: Cover,
     /// How many of `vertices` draw with the clipping shader (the rest without).
     clipped_vertices: i32,
+    /// How many texels the squares cover.
+    texels: usize,
     /// Largest square side drawn, texels (a power of two, at least `BLOCK`).
     largest: u32,
     /// Whether the driver's points are large enough for a block.
@@ -73,6 +75,7 @@ impl Squares {
             vertices: Vec::new(),
             cover: Cover::default(),
             clipped_vertices: 0,
+            texels: 0,
             largest,
             points_fit,
             as_points: points_fit,
@@ -95,13 +98,17 @@ impl Squares {
         let (size, points) = (self.viewport, self.as_points);
         let vertices = &mut self.vertices;
         let largest = self.largest;
+        let texels = &mut self.texels;
+        *texels = 0;
         self.cover
             .squares(flags, wide, largest, clipped, |x, y, side| {
+                *texels += (side * side) as usize;
                 push_square(vertices, points, size, x, y, side)
             });
         self.clipped_vertices = vertices.len() as i32 / 3;
         self.cover
             .squares(flags, wide, largest, above, |x, y, side| {
+                *texels += (side * side) as usize;
                 push_square(vertices, points, size, x, y, side)
             });
         self.mesh.replace(&self.vertices, 3);
@@ -134,6 +141,11 @@ impl Squares {
 
     pub(super) fn draw(&self, first: i32, count: i32) {
         self.mesh.draw_arrays(self.mode(), first, count);
+    }
+
+    /// How many texels the last pass's squares covered.
+    pub(super) fn texels(&self) -> usize {
+        self.texels
     }
 
     /// How many squares the last pass drew with the clipping shader and with the other.

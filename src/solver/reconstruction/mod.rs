@@ -15,10 +15,10 @@
 //! position, normal and reflectance (`patch_data.rs`, with the polygons' planes); every pass
 //! then picks the blocks to draw (`receivers.rs`) and draws squares of whole 4×4 texel blocks
 //! covering them (`cover.rs`). With `Tuning::none()` (the paper's mode) every patch is drawn
-//! every pass, into renderbuffers cleared first. The speed switches of `Tuning` draw only the
-//! receivers' blocks, and run a marking pass so that only the texels the shooter sees compute
-//! form factors; the texels they leave alone keep the renderbuffers' values, which the last
-//! copy also put into the textures.
+//! every pass, into renderbuffers cleared first. The speed switches of `Tuning` run a marking
+//! pass so that only the texels the shooter sees compute form factors (and can draw only the
+//! receivers' blocks); the texels they leave alone keep the renderbuffers' values, which the
+//! last copy also put into the textures.
 //!
 //! Two attachments: 0 = radiosity + ΔL, 1 = unshot + ΔL (zero for the texels that shoot).
 
@@ -423,6 +423,11 @@ impl ReconstructionPass {
     /// clip.
     pub fn squares_drawn(&self) -> (usize, usize) {
         self.squares.drawn()
+    }
+
+    /// How many texels the last pass's squares covered.
+    pub fn texels_drawn(&self) -> usize {
+        self.squares.texels()
     }
 
     /// Whether the last pass drew its squares as points (`Tuning::squares_as_points`, where the
