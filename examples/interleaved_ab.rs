@@ -9,7 +9,8 @@
 //! `base` (none), `paper` (the paper-faithful row's options), `accurate` (`radiosity solve`'s
 //! default mode), `kN` (N shooters per pass),
 //! `no-overshoot`, `small=N` (the small shots' item-buffer side), `min=N` (the smallest shots'
-//! side, `SolveOptions::min_hemi_res`), or `-SWITCH` to turn off one
+//! side, `SolveOptions::min_hemi_res`), `mark=N` (`Tuning::marking_below`), or `-SWITCH` to
+//! turn off one
 //! `Tuning` switch (`-marking_pass`, `-plates`, …).
 //! Switches of `Tuning` leave the answer as it is, so both solvers take the same shots; options
 //! that change the answer may make them take different ones.
@@ -41,6 +42,9 @@ fn configuration(changes: &str) -> SolveOptions {
             }
             min if min.starts_with("min=") => {
                 o.min_hemi_res = min[4..].parse().expect("min=N: a resolution")
+            }
+            mark if mark.starts_with("mark=") => {
+                t.marking_below = mark[5..].parse().expect("mark=N: a percentage")
             }
             "-receivers_only" => t.receivers_only = false,
             "-marking_pass" => t.marking_pass = false,
@@ -111,6 +115,12 @@ fn main() {
         seconds[1],
         shot(1),
         seconds[1] / seconds[0]
+    );
+    let marked = |k: usize| solvers[k].backend().reconstruction.marked_passes;
+    println!(
+        "passes with the marking pass: A {}, B {}",
+        marked(0),
+        marked(1)
     );
     let missed = |k: usize| solvers[k].backend().visibility.missed;
     println!(

@@ -115,6 +115,48 @@ fn drawing_only_the_receivers_gives_the_same_lightmaps() {
 }
 
 #[test]
+fn marking_after_some_shots_only_gives_the_same_lightmaps() {
+    // The fast configuration on the simple room, where a shot of four polygons lights about half
+    // the patches: the marking pass runs only after the shots that lit under
+    // `Tuning::marking_below` of them. The same lightmaps, bit for bit, as marking before every
+    // pass and as never marking.
+    let scene = load("simple");
+    let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
+    let (_one_at_a_time, ctx) = serial_context();
+    let fast = gpu_radiosity::cli::bench::fast_options(0.01);
+    let solver = |tweak: fn(&mut Tuning)| {
+        let mut options = fast.clone();
+        tweak(&mut options.tuning);
+        GpuSolver::new(&ctx, &scene, &layout, options).unwrap()
+    };
+    let mut adaptive = solver(|_| {});
+    let mut always = solver(|t| t.marking_below = 100);
+    let mut never = solver(|t| t.marking_pass = false);
+    let steps = 60;
+    let d = step_both("simple, always", &mut adaptive, &mut always, steps);
+    assert_eq!(d, 0.0, "marking before every pass: L1 difference {d}");
+    for _ in 0..steps {
+        never.step().unwrap().unwrap();
+    }
+    assert_eq!(adaptive.radiosity_atlas(), never.radiosity_atlas());
+    assert_eq!(adaptive.unshot_atlas(), never.unshot_atlas());
+    let marked = |s: &GpuSolver<'_>| s.backend().reconstruction.marked_passes;
+    eprintln!(
+        "passes marked: {} adaptive, {} always, {} never",
+        marked(&adaptive),
+        marked(&always),
+        marked(&never)
+    );
+    assert_eq!(marked(&always), steps);
+    assert_eq!(marked(&never), 0);
+    assert!(
+        (1..steps).contains(&marked(&adaptive)),
+        "the adaptive rule marked {} of {steps} passes",
+        marked(&adaptive)
+    );
+}
+
+#[test]
 fn programs_unrolled_for_quadrilaterals_give_the_same_lightmaps() {
     // Quadrilateral shooters are drawn with programs compiled for four corners (`CORNERS`):
     // the same sums in the same order as the loop over a corner count read at run time, so

@@ -118,7 +118,7 @@ impl<'a> GpuBackend<'a> {
             mesh::vertex_data(scene, layout)
         };
         let visibility_mesh = mesh::upload_scene(gl, &data, n)?;
-        let reconstruction =
+        let mut reconstruction =
             ReconstructionPass::new(ctx, scene, layout, options.shooters_per_pass)?;
         let lightmaps = Lightmaps::new(ctx, w as i32, h as i32)?;
 
@@ -127,6 +127,7 @@ impl<'a> GpuBackend<'a> {
         reconstruction.copy_into(ctx, &lightmaps)?;
         let mut unshot = Vec::new();
         lightmaps.unshot.read_f32(&mut unshot);
+        reconstruction.observe(&unshot);
         Ok(GpuBackend {
             ctx,
             dense,
@@ -175,6 +176,7 @@ impl Backend for GpuBackend<'_> {
     fn read_unshot(&mut self, changed: &mut Vec<usize>) -> Result<(), SolveError> {
         // Find_Max_Energy reads what the copies put into the unshot lightmap texture.
         self.lightmaps.unshot.read_f32(&mut self.unshot);
+        self.reconstruction.observe(&self.unshot);
         changed.clear();
         changed.append(&mut self.touched);
         changed.sort_unstable();

@@ -36,6 +36,14 @@ pub struct Tuning {
     /// them). The texels that receive nothing are not written, and keep the last copy's value
     /// (which is the texture's). Off: every drawn texel tests visibility in the one shader.
     pub marking_pass: bool,
+    /// Reconstruction: run the marking pass only after a shot that lit fewer than this many per
+    /// cent of the patches per pass (sampled from the unshot atlas read back after each shot,
+    /// `reconstruction::lit_share`); 100: before every pass. Marking pays where most texels are
+    /// hidden from every shooter of the pass and costs a second draw where most are lit: on
+    /// llvmpipe at four shooters per pass it saved about 10 % in the complex room, where a shot
+    /// lights about a quarter of the patches, and cost about 6 % in the simple room, where it
+    /// lights about half (docs/perf-log.md). Same lightmaps either way, bit for bit.
+    pub marking_below: u8,
     /// Reconstruction: the blocks whose polygons all have the whole shooter above their plane are
     /// drawn with a shader variant that does not clip the shooter to the receiver's tangent plane
     /// (a third fewer instructions). Same sums up to float rounding (within 1e-6). Needs the
@@ -112,6 +120,7 @@ impl Tuning {
         Tuning {
             receivers_only: false,
             marking_pass: true,
+            marking_below: 40,
             skip_needless_clipping: false,
             unroll_quads: true,
             squares_as_points: true,
@@ -136,6 +145,7 @@ impl Tuning {
         Tuning {
             receivers_only: false,
             marking_pass: false,
+            marking_below: 100,
             skip_needless_clipping: false,
             unroll_quads: false,
             squares_as_points: false,
@@ -149,6 +159,12 @@ impl Tuning {
             flush_visibility: false,
             float_depth: true,
         }
+    }
+
+    /// Whether the marking pass runs (if `marking_pass`) after a shot that lit `lit` (0 to 1)
+    /// of the patches.
+    pub fn marks_after(&self, lit: f32) -> bool {
+        self.marking_below >= 100 || lit * 100.0 < self.marking_below as f32
     }
 
     /// Whether a reconstruction pass writes every texel of the atlas (so that its renderbuffers

@@ -23,6 +23,7 @@
 //! Two attachments: 0 = radiosity + ΔL, 1 = unshot + ΔL (zero for the texels that shoot).
 
 mod cover;
+mod lit_share;
 mod patch_data;
 mod receivers;
 
@@ -222,6 +223,10 @@ pub struct ReconstructionPass {
     pub touched: Vec<usize>,
     /// Passes drawn with the programs unrolled for quadrilateral shooters so far.
     pub quad_passes: u32,
+    /// Passes drawn with the marking pass so far (`Tuning::marking_below` decides each).
+    pub marked_passes: u32,
+    /// The share of the patches the last shot lit (`observe`); none before the first readback.
+    lit: Option<lit_share::LitShare>,
 }
 
 impl ReconstructionPass {
@@ -252,6 +257,8 @@ impl ReconstructionPass {
             squares,
             touched: Vec::new(),
             quad_passes: 0,
+            marked_passes: 0,
+            lit: None,
         })
     }
 
@@ -293,7 +300,13 @@ impl ReconstructionPass {
         shooters: &[Shooter],
         options: &SolveOptions,
     ) -> Result<(), GlError> {
-        let tuning = options.tuning;
+        let mut tuning = options.tuning;
+        let lit = self.lit_share();
+        tuning.marking_pass &= tuning.marks_after(lit);
+        if let Some(l) = &mut self.lit {
+            l.passed();
+        }
+        self.marked_passes += tuning.marking_pass as u32;
         let count = shooters.len();
         if count == 0 || count > self.programs.per_count.len() {
             return Err(GlError::Limit(format!(
@@ -423,6 +436,21 @@ impl ReconstructionPass {
     /// clip.
     pub fn squares_drawn(&self) -> (usize, usize) {
         self.squares.drawn()
+    }
+
+    /// Take the unshot atlas read back after a shot (or, the first time, after the emission):
+    /// how much of it the shot lit decides whether the next pass marks first.
+    pub fn observe(&mut self, unshot: &[f32]) {
+        match &mut self.lit {
+            Some(lit) => lit.observe(unshot),
+            None => self.lit = Some(lit_share::LitShare::new(unshot)),
+        }
+    }
+
+    /// The share of the patches each pass of the last shot lit at least, as `observe`
+    /// estimated it (`LitShare::per_pass`).
+    pub fn lit_share(&self) -> f32 {
+        self.lit.as_ref().map_or(0.0, |l| l.per_pass())
     }
 
     /// How many texels the last pass's squares covered.
