@@ -48,7 +48,7 @@ fn passes(c: &mut Criterion) {
     let plates = mesh::plate_data(&scene, &layout, visibility.merge_plates(&scene));
     let geometry = mesh::upload_scene(&ctx.gl, &plates, scene.polygons.len()).unwrap();
     let patches = mesh::upload(&ctx.gl, &mesh::vertex_data(&scene, &layout)).unwrap();
-    let mut reconstruction = ReconstructionPass::new(&ctx, &scene, &layout, 1).unwrap();
+    let mut reconstruction = ReconstructionPass::new(&ctx, &scene, &layout, &options).unwrap();
     let lightmaps = Lightmaps::new(&ctx, w, h).unwrap();
     reconstruction.emit(&ctx, &patches).unwrap();
     reconstruction.copy_into(&ctx, &lightmaps).unwrap();

@@ -50,6 +50,7 @@ fn configuration(changes: &str) -> SolveOptions {
             "-marking_pass" => t.marking_pass = false,
             "-skip_needless_clipping" => t.skip_needless_clipping = false,
             "-unroll_quads" => t.unroll_quads = false,
+            "-compile_choices" => t.compile_choices = false,
             "-squares_as_points" => t.squares_as_points = false,
             "-guard_band" => t.guard_band = 1,
             "-cull_views" => t.cull_views = false,

@@ -72,11 +72,24 @@ out vec4 NewUnshot;
 
 const float pi = 3.1415926535897932;
 
+// FORM_FACTOR_KIND, HEMI_CUBE, ROBUST: the solve's choices above, compiled in as constants
+// when the host defines them (`Tuning::compile_choices`; llvmpipe runs both sides of a branch
+// even on a uniform), read from the uniforms otherwise.
+#ifndef FORM_FACTOR_KIND
+#define FORM_FACTOR_KIND FormFactorKind
+#endif
+#ifndef HEMI_CUBE
+#define HEMI_CUBE HemiCube
+#endif
+#ifndef ROBUST
+#define ROBUST Robust
+#endif
+
 // The item-buffer texel the direction d (shooter k's eye space, d.z < 0) lands in.
 ivec2 item_texel(vec3 d, int k)
 {
     ivec2 size = ivec2(HemiRes[k]);
-    if (HemiCube == 0) {
+    if (HEMI_CUBE == 0) {
         // The paper: project onto the hemisphere, flatten onto its base disk.
         vec2 uv = normalize(d).xy * 0.5 + 0.5;
         return clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);
@@ -111,7 +124,7 @@ bool Visible(int k, sampler2D items)
     int n = shown.r + 256 * shown.g + 65536 * shown.b;  // ID + 1; 0: nothing
     if (n == int(RecvId + 0.5) + 1)
         return true;
-    if (Robust == 0)
+    if (ROBUST == 0)
         return false;
     // Robust: the pixel shows another polygon X (or nothing). X hides this patch only if the
     // segment from the shooter to the patch crosses X's plane, i.e. the two lie on opposite
@@ -203,7 +216,7 @@ float PolygonFormFactor(int k)
 vec3 FormFactorEnergy(int k)
 {
     float F;
-    if (FormFactorKind == 1) {
+    if (FORM_FACTOR_KIND == 1) {
         F = PolygonFormFactor(k) / ShootArea[k];
     } else {
         vec3 r = ShootPos[k] - RecvPos;

@@ -9,7 +9,9 @@ mod common;
 
 use common::*;
 use gpu_radiosity::patches::{PatchLayout, Resolution};
-use gpu_radiosity::solver::{GpuSolver, Tuning};
+use gpu_radiosity::solver::reconstruction::{Lightmaps, ReconstructionPass};
+use gpu_radiosity::solver::visibility::VisibilityPass;
+use gpu_radiosity::solver::{FormFactorKind, GpuSolver, SolveOptions, Tuning};
 
 #[test]
 fn squares_drawn_as_points_or_triangles_give_the_same_lightmaps() {
@@ -181,6 +183,83 @@ fn programs_unrolled_for_quadrilaterals_give_the_same_lightmaps() {
         );
         assert_eq!(unrolled.unshot_atlas(), looped.unshot_atlas(), "{name}");
     });
+}
+
+#[test]
+fn programs_with_the_solves_choices_compiled_in_give_the_same_lightmaps() {
+    // `compile_choices` turns the shader's branches on the form factor, the visibility kind and
+    // the robust test into constants: the branch taken does the same arithmetic, so the same
+    // lightmaps, bit for bit; for the rooms' choices and for the paper's (point factor,
+    // hemispherical projection, nearest ID), which the tuned passes then compile in too.
+    let off = |t: &mut Tuning| t.compile_choices = false;
+    on_both_rooms(off, |name, mut compiled, mut read| {
+        let d = step_both(name, &mut compiled, &mut read, 40);
+        assert_eq!(
+            d, 0.0,
+            "{name}: the compiled-in choices changed the lightmaps"
+        );
+    });
+    let scene = load("simple");
+    let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
+    let (_one_at_a_time, ctx) = serial_context();
+    let options = SolveOptions {
+        tuning: Tuning::llvmpipe(),
+        ..SolveOptions::paper()
+    };
+    let mut read = options.clone();
+    off(&mut read.tuning);
+    let mut a = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
+    let mut b = GpuSolver::new(&ctx, &scene, &layout, read).unwrap();
+    let d = step_both("simple, the paper's choices", &mut a, &mut b, 20);
+    assert_eq!(
+        d, 0.0,
+        "the paper's choices compiled in changed the lightmaps"
+    );
+}
+
+#[test]
+fn programs_with_choices_compiled_in_refuse_other_choices() {
+    // A pass set up for the hemicube must not quietly look the hemisphere up in its item buffer.
+    let scene = load("simple");
+    let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()))
+        .without_gutters();
+    let (_one_at_a_time, ctx) = serial_context();
+    let options = gpu_radiosity::cli::bench::bench_options(0.01);
+    let solver = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
+    let shooters = solver.shooters_of(solver.next_polygon().unwrap());
+    let visibility = VisibilityPass::new(
+        &ctx,
+        options.visibility,
+        options.hemi_res,
+        options.tuning,
+        &scene,
+    )
+    .unwrap();
+    let lightmaps =
+        Lightmaps::new(&ctx, layout.atlas_width as i32, layout.atlas_height as i32).unwrap();
+    let mut pass = ReconstructionPass::new(&ctx, &scene, &layout, &options).unwrap();
+    let run = |pass: &mut ReconstructionPass, options: &SolveOptions| {
+        pass.run(&ctx, &visibility, &lightmaps, &shooters[..1], options)
+    };
+    run(&mut pass, &options).expect("the options it was set up with");
+    let other = SolveOptions {
+        form_factor: FormFactorKind::Point,
+        ..options.clone()
+    };
+    let refused = run(&mut pass, &other).expect_err("another form factor");
+    assert!(
+        refused.to_string().contains("compiled for"),
+        "unclear refusal: {refused}"
+    );
+    // Without the switch the programs read the choices from uniforms and serve any.
+    let mut loose = options.clone();
+    loose.tuning.compile_choices = false;
+    let mut pass = ReconstructionPass::new(&ctx, &scene, &layout, &loose).unwrap();
+    let other = SolveOptions {
+        tuning: loose.tuning,
+        ..other
+    };
+    run(&mut pass, &other).expect("uniforms serve any form factor");
 }
 
 #[test]

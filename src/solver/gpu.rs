@@ -118,8 +118,7 @@ impl<'a> GpuBackend<'a> {
             mesh::vertex_data(scene, layout)
         };
         let visibility_mesh = mesh::upload_scene(gl, &data, n)?;
-        let mut reconstruction =
-            ReconstructionPass::new(ctx, scene, layout, options.shooters_per_pass)?;
+        let mut reconstruction = ReconstructionPass::new(ctx, scene, layout, &options)?;
         let lightmaps = Lightmaps::new(ctx, w as i32, h as i32)?;
 
         // Initialise: every patch's unshot energy is its emission (3.2: "initialise E").

@@ -55,6 +55,13 @@ pub struct Tuning {
     /// four corners, whose loops unroll (llvmpipe fetches a uniform array indexed by a run-time
     /// count lane by lane). Bit-identical; about 5 % less time per pass.
     pub unroll_quads: bool,
+    /// Reconstruction: the solve's fixed choices (the form factor, the visibility kind, the
+    /// robust test) compiled into the programs as constants rather than read from uniforms.
+    /// llvmpipe runs both sides of a branch even when its condition is a uniform, so with
+    /// uniforms every texel also computed the point factor and the hemispherical lookup for
+    /// each shooter. Bit-identical; a few per cent less time per pass. The programs then serve
+    /// only the options they were set up with (a pass run with others is refused).
+    pub compile_choices: bool,
     /// Reconstruction: each square of whole 4×4 blocks is drawn as one point, which llvmpipe
     /// rasterises in one piece, block by block; off, as two triangles, whose shared diagonal
     /// makes llvmpipe shade the blocks it crosses twice. The pass draws triangles anyway where
@@ -123,6 +130,7 @@ impl Tuning {
             marking_below: 40,
             skip_needless_clipping: false,
             unroll_quads: true,
+            compile_choices: true,
             squares_as_points: true,
             guard_band: 7,
             cull_views: true,
@@ -148,6 +156,7 @@ impl Tuning {
             marking_below: 100,
             skip_needless_clipping: false,
             unroll_quads: false,
+            compile_choices: false,
             squares_as_points: false,
             guard_band: 1,
             cull_views: false,

@@ -77,6 +77,9 @@ impl Lightmaps {
 struct Programs {
     /// Per number of shooters in a pass, 1 to `SolveOptions::shooters_per_pass`.
     per_count: Vec<ShooterPrograms>,
+    /// The choices compiled into `per_count` (`Tuning::compile_choices`); none: read from
+    /// uniforms, so the programs serve any options.
+    compiled: Option<Choices>,
     /// Writes each patch's emitted radiance (and its polygon ID in alpha) at initialisation.
     emission: Program,
 }
@@ -97,15 +100,49 @@ struct ShooterPrograms {
     marking: Program,
 }
 
+/// A solve's fixed choices that `glsl/reconstruct.frag` branches on: the form factor, the
+/// visibility kind and the robust test (the shader's `FormFactorKind`, `HemiCube` and `Robust`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Choices {
+    polygon_form_factor: bool,
+    hemicube: bool,
+    robust: bool,
+}
+
+impl Choices {
+    fn of(options: &SolveOptions) -> Self {
+        Choices {
+            polygon_form_factor: options.form_factor == FormFactorKind::Polygon,
+            hemicube: options.visibility == VisibilityKind::Hemicube,
+            robust: options.robust_visibility,
+        }
+    }
+
+    /// `source` with the choices compiled in as constants.
+    fn define(&self, source: Source) -> Source {
+        source
+            .define("FORM_FACTOR_KIND", self.polygon_form_factor as i32)
+            .define("HEMI_CUBE", self.hemicube as i32)
+            .define("ROBUST", self.robust as i32)
+    }
+}
+
 impl Programs {
-    fn new(ctx: &GlContext, shooters_per_pass: u32) -> Result<Self, GlError> {
+    fn new(ctx: &GlContext, options: &SolveOptions) -> Result<Self, GlError> {
         let gl = &ctx.gl;
         let squares_in = &[(0, "Corner"), (1, "Size")];
         let compile =
             |source: Source| Program::new(gl, glsl!("atlas.vert"), source, squares_in, OUTPUTS);
-        let per_count = (1..=shooters_per_pass.max(1) as i32)
+        let compiled = options.tuning.compile_choices.then(|| Choices::of(options));
+        let per_count = (1..=options.shooters_per_pass.max(1) as i32)
             .map(|count| {
-                let frag = || glsl!("reconstruct.frag").define("SHOOTERS", count);
+                let frag = || {
+                    let source = glsl!("reconstruct.frag").define("SHOOTERS", count);
+                    match &compiled {
+                        Some(choices) => choices.define(source),
+                        None => source,
+                    }
+                };
                 let marked = || frag().define("MARKED", 1);
                 let above = || marked().define("SHOOTER_ABOVE", 1);
                 Ok(ShooterPrograms {
@@ -118,6 +155,7 @@ impl Programs {
             .collect::<Result<_, GlError>>()?;
         Ok(Programs {
             per_count,
+            compiled,
             emission: Program::new(
                 gl,
                 glsl!("lightmap.vert"),
@@ -230,18 +268,19 @@ pub struct ReconstructionPass {
 }
 
 impl ReconstructionPass {
-    /// The pass for `scene` laid out as `layout`, serving up to `shooters_per_pass` shooters a
-    /// pass.
+    /// The pass for `scene` laid out as `layout`, serving up to `options.shooters_per_pass`
+    /// shooters a pass (and, with `Tuning::compile_choices`, only `options`' choices of form
+    /// factor, visibility kind and robust test).
     pub fn new(
         ctx: &GlContext,
         scene: &Scene,
         layout: &PatchLayout,
-        shooters_per_pass: u32,
+        options: &SolveOptions,
     ) -> Result<Self, GlError> {
         let gl = &ctx.gl;
         let (width, height) = (layout.atlas_width as i32, layout.atlas_height as i32);
         let planes = PolygonPlanes::new(ctx, scene)?;
-        let programs = Programs::new(ctx, shooters_per_pass)?;
+        let programs = Programs::new(ctx, options)?;
         let receivers = Receivers::new(scene, layout);
         let squares = Squares::new(gl, width, height)?;
         let patches = PatchData::new(gl, width, height)?;
@@ -307,6 +346,14 @@ impl ReconstructionPass {
             l.passed();
         }
         self.marked_passes += tuning.marking_pass as u32;
+        if let Some(compiled) = self.programs.compiled {
+            if compiled != Choices::of(options) {
+                return Err(GlError::Limit(format!(
+                    "the reconstruction programs were compiled for {compiled:?}, not for {:?}",
+                    Choices::of(options)
+                )));
+            }
+        }
         let count = shooters.len();
         if count == 0 || count > self.programs.per_count.len() {
             return Err(GlError::Limit(format!(
