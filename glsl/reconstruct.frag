@@ -63,8 +63,16 @@ uniform float PlaneSlack;          // world units: how far beyond a plane counts
 #define EACH_SHOOTER(X) X(0) X(1)
 #elif SHOOTERS == 3
 #define EACH_SHOOTER(X) X(0) X(1) X(2)
-#else
+#elif SHOOTERS == 4
 #define EACH_SHOOTER(X) X(0) X(1) X(2) X(3)
+#elif SHOOTERS == 5
+#define EACH_SHOOTER(X) X(0) X(1) X(2) X(3) X(4)
+#elif SHOOTERS == 6
+#define EACH_SHOOTER(X) X(0) X(1) X(2) X(3) X(4) X(5)
+#elif SHOOTERS == 7
+#define EACH_SHOOTER(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6)
+#else
+#define EACH_SHOOTER(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7)
 #endif
 
 out vec4 NewRadiosity;

@@ -104,9 +104,11 @@ use glam::{Mat4, Vec3};
 /// (`SolveOptions::small_shot`), as measured against the accuracy guard (docs/accuracy.md).
 pub const SMALL_SHOT: f32 = 0.01;
 
-/// Most shooters one reconstruction pass serves (`SolveOptions::shooters_per_pass`): the shader
-/// is compiled for each count up to this.
-pub const MAX_SHOOTERS_PER_PASS: u32 = 4;
+/// Most shooters one reconstruction pass serves (`SolveOptions::shooters_per_pass`; the shader
+/// is compiled for that many). Eight item buffers take texture units 0 and 7 to 13 of the 16
+/// GL 3.0 promises, and the shooters' uniforms under 900 of its 1,024 fragment components,
+/// each array element counted as a whole vec4.
+pub const MAX_SHOOTERS_PER_PASS: u32 = 8;
 
 /// Which form factor the reconstruction pass evaluates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]

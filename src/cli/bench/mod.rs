@@ -193,7 +193,7 @@ fn by_shot(options: SolveOptions) -> SolveOptions {
 }
 
 /// Shooters per reconstruction pass in the fast configuration (see [`fast_options`]).
-pub const FAST_SHOOTERS_PER_PASS: u32 = 4;
+pub const FAST_SHOOTERS_PER_PASS: u32 = 8;
 
 /// The fast configuration (beyond the paper; measured against the accuracy guard in
 /// docs/accuracy.md): [`bench_options`] with overshooting, the item buffer chosen per shot and

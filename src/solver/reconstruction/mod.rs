@@ -75,9 +75,11 @@ impl Lightmaps {
 /// The pass's programs: `glsl/reconstruct.frag` in its variants for one number of shooters per
 /// pass (`SHOOTERS`), and the emission shader.
 struct Programs {
-    /// Per number of shooters in a pass, 1 to `SolveOptions::shooters_per_pass`.
-    per_count: Vec<ShooterPrograms>,
-    /// The choices compiled into `per_count` (`Tuning::compile_choices`); none: read from
+    /// For `shooters` shooters a pass (`SolveOptions::shooters_per_pass`); a pass with fewer
+    /// pads the rest (`ReconstructionPass::run`).
+    for_slots: ShooterPrograms,
+    shooters: usize,
+    /// The choices compiled into `for_slots` (`Tuning::compile_choices`); none: read from
     /// uniforms, so the programs serve any options.
     compiled: Option<Choices>,
     /// Writes each patch's emitted radiance (and its polygon ID in alpha) at initialisation.
@@ -134,27 +136,25 @@ impl Programs {
         let compile =
             |source: Source| Program::new(gl, glsl!("atlas.vert"), source, squares_in, OUTPUTS);
         let compiled = options.tuning.compile_choices.then(|| Choices::of(options));
-        let per_count = (1..=options.shooters_per_pass.max(1) as i32)
-            .map(|count| {
-                let frag = || {
-                    let source = glsl!("reconstruct.frag").define("SHOOTERS", count);
-                    match &compiled {
-                        Some(choices) => choices.define(source),
-                        None => source,
-                    }
-                };
-                let marked = || frag().define("MARKED", 1);
-                let above = || marked().define("SHOOTER_ABOVE", 1);
-                Ok(ShooterPrograms {
-                    literal: [compile(frag())?, compile(frag().define("CORNERS", 4))?],
-                    marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
-                    above: [compile(above())?, compile(above().define("CORNERS", 4))?],
-                    marking: compile(frag().define("MARK", 1))?,
-                })
-            })
-            .collect::<Result<_, GlError>>()?;
+        let shooters = options.shooters_per_pass.max(1);
+        let frag = || {
+            let source = glsl!("reconstruct.frag").define("SHOOTERS", shooters as i32);
+            match &compiled {
+                Some(choices) => choices.define(source),
+                None => source,
+            }
+        };
+        let marked = || frag().define("MARKED", 1);
+        let above = || marked().define("SHOOTER_ABOVE", 1);
+        let for_slots = ShooterPrograms {
+            literal: [compile(frag())?, compile(frag().define("CORNERS", 4))?],
+            marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
+            above: [compile(above())?, compile(above().define("CORNERS", 4))?],
+            marking: compile(frag().define("MARK", 1))?,
+        };
         Ok(Programs {
-            per_count,
+            for_slots,
+            shooters: shooters as usize,
             compiled,
             emission: Program::new(
                 gl,
@@ -355,22 +355,40 @@ impl ReconstructionPass {
             }
         }
         let count = shooters.len();
-        if count == 0 || count > self.programs.per_count.len() {
+        let slots = self.programs.shooters;
+        if count == 0 || count > slots {
             return Err(GlError::Limit(format!(
-                "{count} shooters in one reconstruction pass; it was set up for 1 to {}",
-                self.programs.per_count.len()
+                "{count} shooters in one reconstruction pass; it was set up for 1 to {slots}"
             )));
         }
         self.select_receivers(shooters, &tuning);
+        // The programs serve `slots` shooters. A pass with fewer (a step's last polygons, or a
+        // polygon whose cells fill the pass alone) fills the other slots with copies of its
+        // first shooter that carry no energy and own no texels, seeing through its item
+        // buffer: they add exactly zero and mark only what it marks. One set of programs
+        // rather than one per count: compiling them all cost the set-up more than the few
+        // short passes cost the loop.
+        let idle = Shooter {
+            energy: glam::Vec3::ZERO,
+            texels: [0; 4],
+            remainder: glam::Vec3::ZERO,
+            ..shooters[0]
+        };
+        let shooters: Vec<Shooter> = (shooters.iter().copied())
+            .chain(std::iter::repeat_n(idle, slots - count))
+            .collect();
+        let shooters = &shooters[..];
         // When every texel is recomputed from the textures this pass, nothing of the last pass
         // stays in the renderbuffers.
         self.target.begin(ctx, tuning.writes_every_texel());
-        // Shooter 0's item buffer on unit 0, the others' on units 7, 8, ….
-        let units: Vec<i32> = (0..count)
+        // Shooter 0's item buffer on unit 0, the others' on units 7, 8, … (the idle ones get
+        // shooter 0's).
+        let units: Vec<i32> = (0..slots)
             .map(|k| if k == 0 { 0 } else { 6 + k as i32 })
             .collect();
         for (k, &unit) in units.iter().enumerate() {
-            visibility.slot_texture(k).bind(unit as u32);
+            let slot = if k < count { k } else { 0 };
+            visibility.slot_texture(slot).bind(unit as u32);
         }
         lightmaps.radiosity.bind(1);
         lightmaps.unshot.bind(2);
@@ -402,7 +420,7 @@ impl ReconstructionPass {
         let corner_counts = per_shooter(shooters, |s| [s.corner_count as i32]);
         let areas = per_shooter(shooters, |s| [s.area]);
         let planes = &self.planes;
-        let programs = &self.programs.per_count[count - 1];
+        let programs = &self.programs.for_slots;
         let uniforms = |p: &Program| {
             p.use_program();
             p.set_i32("PatchPosition", 4);
