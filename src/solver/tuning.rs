@@ -42,7 +42,8 @@ pub struct Tuning {
     /// hidden from every shooter of the pass and costs a second draw where most are lit: on
     /// llvmpipe at four shooters per pass it saved about 10 % in the complex room, where a shot
     /// lights about a quarter of the patches, and cost about 6 % in the simple room, where it
-    /// lights about half (docs/perf-log.md). Same lightmaps either way, bit for bit.
+    /// lights about half; at eight, where a pass lights more, the rule measured neutral on both
+    /// (docs/perf-log.md). Same lightmaps either way, bit for bit.
     pub marking_below: u8,
     /// Reconstruction: the blocks whose polygons all have the whole shooter above their plane are
     /// drawn with a shader variant that does not clip the shooter to the receiver's tangent plane

@@ -199,7 +199,7 @@ pub const FAST_SHOOTERS_PER_PASS: u32 = 8;
 /// docs/accuracy.md): [`bench_options`] with overshooting, the item buffer chosen per shot and
 /// turned about the normal shot by shot (which costs nothing and takes back much of what the
 /// small item buffers lose), and [`FAST_SHOOTERS_PER_PASS`] shooters per reconstruction pass
-/// (which share the pass's fixed costs: receiver selection, copies, readback).
+/// (which share the pass's fixed costs: the draws of the whole atlas, the copies, the readback).
 pub fn fast_options(threshold: f32) -> SolveOptions {
     by_shot(SolveOptions {
         overshoot: true,
