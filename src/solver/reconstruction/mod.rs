@@ -339,13 +339,6 @@ impl ReconstructionPass {
         shooters: &[Shooter],
         options: &SolveOptions,
     ) -> Result<(), GlError> {
-        let mut tuning = options.tuning;
-        let lit = self.lit_share();
-        tuning.marking_pass &= tuning.marks_after(lit);
-        if let Some(l) = &mut self.lit {
-            l.passed();
-        }
-        self.marked_passes += tuning.marking_pass as u32;
         if let Some(compiled) = self.programs.compiled {
             if compiled != Choices::of(options) {
                 return Err(GlError::Limit(format!(
@@ -361,6 +354,13 @@ impl ReconstructionPass {
                 "{count} shooters in one reconstruction pass; it was set up for 1 to {slots}"
             )));
         }
+        let mut tuning = options.tuning;
+        let lit = self.lit_share();
+        tuning.marking_pass &= tuning.marks_after(lit);
+        if let Some(l) = &mut self.lit {
+            l.passed();
+        }
+        self.marked_passes += tuning.marking_pass as u32;
         self.select_receivers(shooters, &tuning);
         // The programs serve `slots` shooters. A pass with fewer (a step's last polygons, or a
         // polygon whose cells fill the pass alone) fills the other slots with copies of its
