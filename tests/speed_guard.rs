@@ -302,21 +302,11 @@ fn the_item_buffer_turns_shot_by_shot() {
 fn the_shooters_of_one_pass_shoot_simultaneously() {
     use gpu_radiosity::patches::{PatchLayout, Resolution};
     use gpu_radiosity::solver::cpu::CpuSolver;
-    use gpu_radiosity::solver::{Backend, SolveOptions, Solver};
+    use gpu_radiosity::solver::{Backend, Solver};
     let scene = load("cornell");
     let layout = PatchLayout::new(&scene, Resolution::Patches(600));
-    let options = |k: u32| SolveOptions {
-        shooter_cell: 0,
-        emitter_cell: 0,
-        shooters_per_pass: k,
-        ..SolveOptions::accurate()
-    };
     // The light's shot first, so that several polygons have power; then the state S.
-    let start = {
-        let mut cpu = CpuSolver::new(&scene, &layout, options(1), 0).unwrap();
-        cpu.step().unwrap();
-        (cpu.radiosity_atlas(), cpu.unshot_atlas())
-    };
+    let start = after_the_lights_shot(&scene, &layout);
     // From S: the two shooters together, and each alone.
     fn from<B: Backend>(
         solver: &mut Solver<'_, B>,
@@ -378,7 +368,7 @@ fn the_shooters_of_one_pass_shoot_simultaneously() {
         assert!(received > 100, "{name}: {received}");
         assert!(worst < 1e-4, "{name}: {worst}");
     };
-    let cpu = |k| CpuSolver::new(&scene, &layout, options(k), 0).unwrap();
+    let cpu = |k| CpuSolver::new(&scene, &layout, whole_polygons(k), 0).unwrap();
     check(
         "CPU",
         from(&mut cpu(2), &start, None),
@@ -386,7 +376,7 @@ fn the_shooters_of_one_pass_shoot_simultaneously() {
         from(&mut cpu(1), &start, Some(1)),
     );
     let (_lock, ctx) = serial_context();
-    let gpu = |k| GpuSolver::new(&ctx, &scene, &layout, options(k)).unwrap();
+    let gpu = |k| GpuSolver::new(&ctx, &scene, &layout, whole_polygons(k)).unwrap();
     check(
         "GPU",
         from(&mut gpu(2), &start, None),
@@ -402,24 +392,12 @@ fn the_shooters_of_one_pass_shoot_simultaneously() {
 #[test]
 fn a_pass_with_idle_slots_adds_what_a_full_one_adds() {
     use gpu_radiosity::patches::{PatchLayout, Resolution};
-    use gpu_radiosity::solver::cpu::CpuSolver;
-    use gpu_radiosity::solver::SolveOptions;
     let scene = load("cornell");
     let layout = PatchLayout::new(&scene, Resolution::Patches(600));
-    let options = |k: u32| SolveOptions {
-        shooter_cell: 0,
-        emitter_cell: 0,
-        shooters_per_pass: k,
-        ..SolveOptions::accurate()
-    };
-    let start = {
-        let mut cpu = CpuSolver::new(&scene, &layout, options(1), 0).unwrap();
-        cpu.step().unwrap();
-        (cpu.radiosity_atlas(), cpu.unshot_atlas())
-    };
+    let start = after_the_lights_shot(&scene, &layout);
     let (_lock, ctx) = serial_context();
     let shoot_two = |k: u32| {
-        let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options(k)).unwrap();
+        let mut gpu = GpuSolver::new(&ctx, &scene, &layout, whole_polygons(k)).unwrap();
         gpu.load_atlases(&start.0, &start.1).unwrap();
         let top = gpu.next_polygons(2);
         let shooters: Vec<_> = top.iter().flat_map(|&p| gpu.shooters_of(p)).collect();
@@ -433,7 +411,7 @@ fn a_pass_with_idle_slots_adds_what_a_full_one_adds() {
     assert!(two.0 == eight.0, "radiance differs with idle slots");
     assert!(two.1 == eight.1, "unshot radiance differs with idle slots");
     // The first step: the light alone has power, and one polygon is shot through eight slots.
-    let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options(8)).unwrap();
+    let mut gpu = GpuSolver::new(&ctx, &scene, &layout, whole_polygons(8)).unwrap();
     gpu.step().unwrap();
     assert_eq!((gpu.shots(), gpu.passes()), (1, 1));
 }
@@ -523,4 +501,26 @@ fn solve_whole_polygons(out: &std::path::Path, args: &[&str]) {
         .map(std::ffi::OsStr::new)
         .chain([out.as_os_str()]);
     run_ok(args);
+}
+
+/// The accurate mode with whole polygons shooting (the light too), `k` to a pass.
+fn whole_polygons(k: u32) -> gpu_radiosity::solver::SolveOptions {
+    gpu_radiosity::solver::SolveOptions {
+        shooter_cell: 0,
+        emitter_cell: 0,
+        shooters_per_pass: k,
+        ..gpu_radiosity::solver::SolveOptions::accurate()
+    }
+}
+
+/// Radiance and unshot atlases after the CPU solver's first shot (the light's) with
+/// [`whole_polygons`]: a state in which several polygons have power.
+fn after_the_lights_shot(
+    scene: &gpu_radiosity::scene::Scene,
+    layout: &gpu_radiosity::patches::PatchLayout,
+) -> (Vec<f32>, Vec<f32>) {
+    let mut cpu =
+        gpu_radiosity::solver::cpu::CpuSolver::new(scene, layout, whole_polygons(1), 0).unwrap();
+    cpu.step().unwrap();
+    (cpu.radiosity_atlas(), cpu.unshot_atlas())
 }
