@@ -10,7 +10,6 @@ mod common;
 use common::*;
 use gpu_radiosity::patches::{PatchLayout, Resolution};
 use gpu_radiosity::solver::reconstruction::{Lightmaps, ReconstructionPass};
-use gpu_radiosity::solver::visibility::VisibilityPass;
 use gpu_radiosity::solver::{FormFactorKind, GpuSolver, SolveOptions, Tuning};
 
 #[test]
@@ -227,19 +226,12 @@ fn programs_with_choices_compiled_in_refuse_other_choices() {
     let options = gpu_radiosity::cli::bench::bench_options(0.01);
     let solver = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
     let shooters = solver.shooters_of(solver.next_polygon().unwrap());
-    let visibility = VisibilityPass::new(
-        &ctx,
-        options.visibility,
-        options.hemi_res,
-        options.tuning,
-        &scene,
-    )
-    .unwrap();
+    let visibility = &solver.backend().visibility;
     let lightmaps =
         Lightmaps::new(&ctx, layout.atlas_width as i32, layout.atlas_height as i32).unwrap();
     let mut pass = ReconstructionPass::new(&ctx, &scene, &layout, &options).unwrap();
     let run = |pass: &mut ReconstructionPass, options: &SolveOptions| {
-        pass.run(&ctx, &visibility, &lightmaps, &shooters[..1], options)
+        pass.run(&ctx, visibility, &lightmaps, &shooters[..1], options)
     };
     run(&mut pass, &options).expect("the options it was set up with");
     let other = SolveOptions {
