@@ -1,5 +1,10 @@
 //! EGL on the device platform (EGL_EXT_platform_device): no window system, no environment
 //! variables. Mesa lists its software rasterizer as a device (EGL_MESA_device_software).
+//!
+//! Every context of a process made on one device shares one `EGLDisplay` (EGL returns the same
+//! handle for the same platform and device). glutin's `Display` never calls `eglTerminate` on
+//! it unless EGL_KHR_display_reference counts its users (Mesa 22.3 does not offer it), so
+//! dropping one context's display never pulls the display from under another's.
 
 use glutin::api::egl::{context::PossiblyCurrentContext, device::Device, display::Display};
 use glutin::config::{Api, ConfigSurfaceTypes, ConfigTemplateBuilder};
@@ -7,8 +12,32 @@ use glutin::context::{ContextApi, ContextAttributesBuilder, GlProfile, Version};
 use glutin::prelude::*;
 
 pub struct EglContext {
-    _context: PossiblyCurrentContext,
+    /// `None` once destroyed (in `drop`).
+    context: Option<PossiblyCurrentContext>,
     _display: Display,
+}
+
+impl EglContext {
+    /// Make this context current on the calling thread (surfaceless: we draw to FBOs only).
+    pub fn make_current(&self) -> bool {
+        self.context
+            .as_ref()
+            .is_some_and(|c| c.make_current_surfaceless().is_ok())
+    }
+}
+
+impl Drop for EglContext {
+    fn drop(&mut self) {
+        if let Some(context) = self.context.take() {
+            // eglDestroyContext on a context that is current only marks it for deletion: it
+            // would stay current on this thread (and alive, with its rasteriser threads) until
+            // the thread ends. Released first, it is destroyed at once, with no context current.
+            if context.is_current() {
+                let _ = context.make_not_current_in_place();
+            }
+            drop(context);
+        }
+    }
 }
 
 /// Hardware devices first (a real GPU where there is one), then Mesa's software device.
@@ -64,7 +93,7 @@ fn create_on(device: &Device) -> Result<(EglContext, glow::Context), String> {
     let gl = unsafe { glow::Context::from_loader_function_cstr(|s| display.get_proc_address(s)) };
     Ok((
         EglContext {
-            _context: context,
+            context: Some(context),
             _display: display,
         },
         gl,
