@@ -90,18 +90,28 @@ impl Keep {
 
 impl Drop for Keep {
     fn drop(&mut self) {
+        let backend = self.backend.take();
+        let egl = matches!(backend, Some(Backend::Egl(_)));
         // EglContext and OsMesaContext release the context, then destroy it.
-        drop(self.backend.take());
-        let newest = LIVE
+        drop(backend);
+        let (newest, egl_left) = LIVE
             .try_with(|live| {
                 let mut live = live.borrow_mut();
                 live.retain(|k| k.strong_count() > 0);
-                live.last().and_then(std::rc::Weak::upgrade)
+                // A window's context may be EGL too.
+                let egl_left = live
+                    .iter()
+                    .filter_map(std::rc::Weak::upgrade)
+                    .any(|k| matches!(k.backend, Some(Backend::Egl(_) | Backend::External(_))));
+                (live.last().and_then(std::rc::Weak::upgrade), egl_left)
             })
-            .ok()
-            .flatten();
+            .unwrap_or((None, true));
         if let Some(k) = newest {
             k.make_current();
+        }
+        if egl && !egl_left {
+            // The thread's last EGL context is gone: free its EGL state now, not at its end.
+            egl::release_thread();
         }
     }
 }

@@ -10,6 +10,7 @@ use glutin::api::egl::{context::PossiblyCurrentContext, device::Device, display:
 use glutin::config::{Api, ConfigSurfaceTypes, ConfigTemplateBuilder};
 use glutin::context::{ContextApi, ContextAttributesBuilder, GlProfile, Version};
 use glutin::prelude::*;
+use std::sync::OnceLock;
 
 pub struct EglContext {
     /// `None` once destroyed (in `drop`).
@@ -37,6 +38,27 @@ impl Drop for EglContext {
             }
             drop(context);
         }
+    }
+}
+
+/// `eglReleaseThread`: return the calling thread to EGL's initial state, freeing its per-thread
+/// state now. Called after the thread's last context is destroyed, as its last EGL call. Left to
+/// the thread's end, libglvnd frees that state in a thread-exit destructor, which races with its
+/// own exit-time teardown (`__eglFini` walks the same list unlocked) when the process ends as
+/// the thread does, as a test binary's does after its last test: a double free.
+pub fn release_thread() {
+    type ReleaseThread = unsafe extern "C" fn() -> u32;
+    static RELEASE: OnceLock<Option<(libloading::Library, ReleaseThread)>> = OnceLock::new();
+    // The library glutin loaded; loaded again here only for this symbol, and never unloaded.
+    let release = RELEASE.get_or_init(|| unsafe {
+        let lib = ["libEGL.so.1", "libEGL.so"]
+            .iter()
+            .find_map(|n| libloading::Library::new(n).ok())?;
+        let f = *lib.get::<ReleaseThread>(b"eglReleaseThread\0").ok()?;
+        Some((lib, f))
+    });
+    if let Some((_, f)) = release {
+        unsafe { f() };
     }
 }
 
