@@ -287,6 +287,29 @@ mod tests {
         });
     }
 
+    /// Whether `backend` has a context current on this thread.
+    fn something_current(backend: BackendChoice) -> bool {
+        match backend {
+            BackendChoice::Osmesa => !osmesa::current_context().is_null(),
+            _ => !egl::current_context().is_null(),
+        }
+    }
+
+    #[test]
+    fn a_dropped_context_is_destroyed_not_left_current() {
+        // eglDestroyContext on a current context only marks it: it would stay current (and
+        // alive) on this thread until the thread ends.
+        for backend in backends() {
+            let ctx = GlContext::headless(backend).unwrap();
+            assert!(something_current(backend), "{backend:?}");
+            drop(ctx);
+            assert!(
+                !something_current(backend),
+                "{backend:?}: still current after drop"
+            );
+        }
+    }
+
     #[test]
     fn two_contexts_in_one_thread_tear_down_in_either_order() {
         for backend in backends() {

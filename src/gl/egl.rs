@@ -41,25 +41,41 @@ impl Drop for EglContext {
     }
 }
 
+/// libEGL, for the two entry points glutin does not wrap: the library glutin loaded, loaded
+/// again here and never unloaded.
+fn libegl() -> Option<&'static libloading::Library> {
+    static LIB: OnceLock<Option<libloading::Library>> = OnceLock::new();
+    LIB.get_or_init(|| {
+        ["libEGL.so.1", "libEGL.so"]
+            .iter()
+            .find_map(|n| unsafe { libloading::Library::new(n) }.ok())
+    })
+    .as_ref()
+}
+
 /// `eglReleaseThread`: return the calling thread to EGL's initial state, freeing its per-thread
 /// state now. Called after the thread's last context is destroyed, as its last EGL call. Left to
-/// the thread's end, libglvnd frees that state in a thread-exit destructor, which races with its
-/// own exit-time teardown (`__eglFini` walks the same list unlocked) when the process ends as
-/// the thread does, as a test binary's does after its last test: a double free.
+/// the thread's end, libglvnd 1.6 frees that state in a thread-exit destructor, which races with
+/// its exit-time teardown (`__eglFini` frees every thread's state) when the process ends as the
+/// thread does, as a test binary does after its last test: a double free (docs/perf-log.md,
+/// 2026-12-03).
 pub fn release_thread() {
     type ReleaseThread = unsafe extern "C" fn() -> u32;
-    static RELEASE: OnceLock<Option<(libloading::Library, ReleaseThread)>> = OnceLock::new();
-    // The library glutin loaded; loaded again here only for this symbol, and never unloaded.
-    let release = RELEASE.get_or_init(|| unsafe {
-        let lib = ["libEGL.so.1", "libEGL.so"]
-            .iter()
-            .find_map(|n| libloading::Library::new(n).ok())?;
-        let f = *lib.get::<ReleaseThread>(b"eglReleaseThread\0").ok()?;
-        Some((lib, f))
-    });
-    if let Some((_, f)) = release {
-        unsafe { f() };
+    if let Some(lib) = libegl() {
+        if let Ok(f) = unsafe { lib.get::<ReleaseThread>(b"eglReleaseThread\0") } {
+            unsafe { f() };
+        }
     }
+}
+
+/// `eglGetCurrentContext`: the calling thread's current EGL context, null if none.
+#[cfg(test)]
+pub fn current_context() -> *mut std::ffi::c_void {
+    type GetCurrentContext = unsafe extern "C" fn() -> *mut std::ffi::c_void;
+    let f = libegl()
+        .and_then(|lib| unsafe { lib.get::<GetCurrentContext>(b"eglGetCurrentContext\0") }.ok())
+        .expect("libEGL has eglGetCurrentContext");
+    unsafe { f() }
 }
 
 /// Hardware devices first (a real GPU where there is one), then Mesa's software device.

@@ -115,6 +115,12 @@ impl Drop for OsMesaContext {
     }
 }
 
+/// `OSMesaGetCurrentContext`: the calling thread's current OSMesa context, null if none.
+#[cfg(test)]
+pub fn current_context() -> *mut c_void {
+    library().map_or(std::ptr::null_mut(), |lib| unsafe { (lib.get_current)() })
+}
+
 pub fn create() -> Result<(OsMesaContext, glow::Context), String> {
     let lib = library()?;
     let attribs = [
