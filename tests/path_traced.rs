@@ -137,7 +137,7 @@ fn regions_against_the_reference(
         .unwrap();
     let layout = PatchLayout::new(&scene, Resolution::Patches(4096));
     let atlas = {
-        let (_lock, ctx) = serial_context();
+        let ctx = context();
         let options = SolveOptions {
             threshold: 1e-3,
             ..options
