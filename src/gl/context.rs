@@ -287,6 +287,29 @@ mod tests {
         });
     }
 
+    /// Threads that make and drop a context (EGL where there is one) and end as the test ends:
+    /// run alone (`--exact`), the binary exits while they finish, which is when libglvnd 1.6's
+    /// exit-time teardown raced their thread-exit destructors (a double free; docs/perf-log.md,
+    /// 2026-12-03). One run catches that rarely (about one in a hundred before the fix);
+    /// tools/asan-stress.sh runs it alone `EXIT_RUNS` times.
+    #[test]
+    fn threads_that_end_as_the_process_ends() {
+        const THREADS: u32 = 32;
+        let (tx, rx) = std::sync::mpsc::channel();
+        for t in 0..THREADS {
+            let tx = tx.clone();
+            // Not joined, as libtest does not join its test threads.
+            std::thread::spawn(move || {
+                let ok =
+                    GlContext::headless(BackendChoice::Auto).is_ok_and(|ctx| round_trip(&ctx, t));
+                tx.send(ok).unwrap();
+            });
+        }
+        for _ in 0..THREADS {
+            assert!(rx.recv().unwrap());
+        }
+    }
+
     /// Whether `backend` has a context current on this thread.
     fn something_current(backend: BackendChoice) -> bool {
         match backend {
