@@ -35,14 +35,10 @@ pub struct SolveArgs {
     /// same for any count.
     #[arg(long, default_value_t = 0, value_parser = values::threads, allow_hyphen_values = true)]
     pub threads: usize,
-    /// Stop when unshot power / emitted power ≤ this (0 < F < 1).
-    #[arg(
-        long,
-        default_value_t = 0.01,
-        value_parser = values::threshold,
-        allow_hyphen_values = true,
-    )]
-    pub threshold: f32,
+    /// Stop when unshot power / emitted power ≤ this (0 < F < 1). Mode default: paper 0.01,
+    /// accurate 0.003.
+    #[arg(long, value_parser = values::threshold, allow_hyphen_values = true)]
+    pub threshold: Option<f32>,
     /// Stop after this many shots at most (0 to 1,000,000; 0: the emitters alone).
     #[arg(
         long,
@@ -99,33 +95,41 @@ pub struct SolveArgs {
     pub visibility: Option<VisibilityKind>,
     /// Beyond the paper, for fewer shots: each shooter also shoots the ambient light it will
     /// still receive, leaving that much negative unshot energy (Feda & Purgathofer 1992).
-    #[arg(long)]
-    pub overshoot: bool,
+    /// `--overshoot` or `--overshoot true|false`. Mode default: paper off, accurate on.
+    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
+    pub overshoot: Option<bool>,
     /// Beyond the paper, for cheaper shots: draw the item buffer at this resolution (16 to
-    /// --hemi-res) for shots that carry less than --small-shot of the emitted power.
-    #[arg(long, value_parser = values::hemi_res(), allow_hyphen_values = true)]
+    /// --hemi-res; 0: off) for shots that carry less than --small-shot of the emitted power.
+    /// Mode default: paper 0, accurate 128.
+    #[arg(long, value_parser = values::hemi_res_or_off, allow_hyphen_values = true)]
     pub small_hemi_res: Option<u32>,
-    /// See --small-hemi-res: a share of the emitted power (0 ≤ F < 1).
-    #[arg(
-        long,
-        default_value_t = DEFAULT_SMALL_SHOT,
-        value_parser = values::share,
-        allow_hyphen_values = true,
-    )]
-    pub small_shot: f32,
+    /// See --small-hemi-res: a share of the emitted power (0 ≤ F < 1). Default 0.01.
+    #[arg(long, value_parser = values::share, allow_hyphen_values = true)]
+    pub small_shot: Option<f32>,
     /// Beyond the paper, for cheaper shots (needs --small-hemi-res): below --small-shot the
     /// item buffer's side falls with the cube root of the shot's share of the emitted power,
-    /// down to N (16 to --small-hemi-res).
-    #[arg(long, value_parser = values::hemi_res(), allow_hyphen_values = true)]
+    /// down to N (16 to --small-hemi-res; 0: off). Mode default: paper 0, accurate 16.
+    #[arg(long, value_parser = values::hemi_res_or_off, allow_hyphen_values = true)]
     pub min_hemi_res: Option<u32>,
     /// Beyond the paper, for accuracy: turn each shot's item buffer about the shooter's normal
-    /// by its own angle, so that the aliasing of successive shots averages out.
-    #[arg(long)]
-    pub rotate_item_buffer: bool,
+    /// by its own angle, so that the aliasing of successive shots averages out. Mode default:
+    /// paper off, accurate on.
+    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
+    pub rotate_item_buffer: Option<bool>,
     /// Beyond the paper, for cheaper shots: each step shoots the K polygons with the most unshot
-    /// power (1 to 4), each with its own item buffer, through one reconstruction pass.
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=crate::solver::MAX_SHOOTERS_PER_PASS as i64))]
-    pub shooters_per_pass: u32,
+    /// power (1 to 8), each with its own item buffer, through one reconstruction pass. Mode
+    /// default: paper 1, accurate 8 (1 with --dump-passes).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=crate::solver::MAX_SHOOTERS_PER_PASS as i64))]
+    pub shooters_per_pass: Option<u32>,
+    /// Beyond the paper, so that no shot creates energy: a shot whose receivers got more than
+    /// it carried is scaled back to what it carried. Mode default: paper off, accurate on.
+    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
+    pub conserve: Option<bool>,
+    /// Beyond the paper, for fewer passes: only shots carrying at least this share of the
+    /// emitted power cut their cells where a touching polygon's plane crosses them (0 ≤ F < 1;
+    /// 0: every shot). Mode default: paper 0, accurate 0.003.
+    #[arg(long, value_parser = values::share, allow_hyphen_values = true)]
+    pub cut_above: Option<f32>,
     /// Camera position, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<Vec3>,
@@ -165,8 +169,14 @@ impl SolveArgs {
     /// The solver settings: the mode's, with single settings overridden.
     pub fn options(&self) -> SolveOptions {
         let base = self.mode.options();
+        // One shooter per pass when picturing the passes, unless asked for more (refused).
+        let shooters_per_pass = match self.shooters_per_pass {
+            Some(k) => k,
+            None if !self.dump_passes.is_empty() => 1,
+            None => base.shooters_per_pass,
+        };
         SolveOptions {
-            threshold: self.threshold,
+            threshold: self.threshold.unwrap_or(base.threshold),
             max_shots: self.max_shots,
             hemi_res: self.hemi_res.unwrap_or(base.hemi_res),
             tessellation: self.tessellate.unwrap_or(base.tessellation),
@@ -176,18 +186,22 @@ impl SolveArgs {
             visibility: self.visibility.unwrap_or(base.visibility),
             robust_visibility: base.robust_visibility,
             tuning: base.tuning,
-            overshoot: self.overshoot,
-            small_hemi_res: self.small_hemi_res.unwrap_or(0),
-            small_shot: self.small_shot,
-            min_hemi_res: self.min_hemi_res.unwrap_or(0),
-            rotate_item_buffer: self.rotate_item_buffer,
-            shooters_per_pass: self.shooters_per_pass,
+            overshoot: self.overshoot.unwrap_or(base.overshoot),
+            small_hemi_res: self.small_hemi_res.unwrap_or(base.small_hemi_res),
+            small_shot: self.small_shot.unwrap_or(crate::solver::SMALL_SHOT),
+            min_hemi_res: self.min_hemi_res.unwrap_or(base.min_hemi_res),
+            rotate_item_buffer: self.rotate_item_buffer.unwrap_or(base.rotate_item_buffer),
+            shooters_per_pass,
+            conserve: self.conserve.unwrap_or(base.conserve),
+            cut_above: self.cut_above.unwrap_or(base.cut_above),
         }
     }
-}
 
-/// `--small-shot`'s default: the fast configuration's (`bench::fast_options`).
-pub const DEFAULT_SMALL_SHOT: f32 = crate::solver::SMALL_SHOT;
+    /// The stopping rule's threshold in use.
+    pub fn threshold(&self) -> f32 {
+        self.threshold.unwrap_or(self.mode.options().threshold)
+    }
+}
 
 fn rayon_threads(requested: usize) -> usize {
     if requested > 0 {
@@ -255,7 +269,7 @@ pub struct SolveOutcome {
 pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     // First: a signal from here on removes what this run staged and exits 1.
     display::output_set::exit_on_signals()?;
-    check_solve_settings(args.threshold, args.patch_size, args.patches)?;
+    check_solve_settings(args.threshold(), args.patch_size, args.patches)?;
     let (scene, scene_path) = pipeline::load_scene(args.scene.as_deref())?;
     let scene_name = scene_path.display().to_string();
     check_camera(args, &scene)?;
@@ -268,7 +282,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     if args.solver == SolverKind::Cpu && !args.dump_passes.is_empty() {
         bail!("--dump-passes pictures the GPU passes: use it with --solver gpu");
     }
-    if args.shooters_per_pass > 1 && !args.dump_passes.is_empty() {
+    if args.options().shooters_per_pass > 1 && !args.dump_passes.is_empty() {
         bail!(
             "--dump-passes pictures one shooter's passes per shot: use it with \
              --shooters-per-pass 1"
@@ -319,9 +333,9 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         };
         anyhow::anyhow!("{e} (set with {flags})")
     })?;
-    let bar = progress_bar(args.threshold);
+    let bar = progress_bar(args.threshold());
     let progress = |r: &ShotRecord| {
-        bar.set_position(progress_position(r.unshot_fraction, args.threshold));
+        bar.set_position(progress_position(r.unshot_fraction, args.threshold()));
         bar.set_message(format!("shot {} unshot {:.4}", r.shot, r.unshot_fraction));
     };
     let solution = if args.dump_passes.is_empty() {
@@ -389,7 +403,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     pipeline::write_outputs(&set, &image, args.exposure, &layout, &solution, &stats)?;
     if args.plot {
         let title = format!("{} ({:?} mode)", scene.name, args.mode).to_lowercase();
-        display::plot::write_convergence(&set, &stats.history, args.threshold, &title)?;
+        display::plot::write_convergence(&set, &stats.history, args.threshold(), &title)?;
     }
     set.publish()?;
     eprintln!("wrote {}", out_dir.display());

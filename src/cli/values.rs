@@ -19,6 +19,21 @@ pub const MAX_HEMI_RES: u32 = 4096;
 pub fn hemi_res() -> clap::builder::RangedI64ValueParser<u32> {
     clap::value_parser!(u32).range(MIN_HEMI_RES as i64..=MAX_HEMI_RES as i64)
 }
+/// An item-buffer resolution that may be off: 0, or as [`hemi_res`].
+pub fn hemi_res_or_off(s: &str) -> Result<u32, String> {
+    let v: i64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a whole number"))?;
+    if v == 0 || (MIN_HEMI_RES as i64..=MAX_HEMI_RES as i64).contains(&v) {
+        Ok(v as u32)
+    } else {
+        Err(format!(
+            "{s} is neither 0 (off) nor in {MIN_HEMI_RES}..={MAX_HEMI_RES}"
+        ))
+    }
+}
+
 /// Shooter and emitter cells, in patches: 16384 is the widest atlas, so a larger cell is the
 /// whole polygon anyway.
 pub const MAX_CELL: u32 = 16_384;
