@@ -6,7 +6,7 @@ use crate::display::output_set::OutputSet;
 use crate::gl::{BackendChoice, GlContext, GlInfo};
 use crate::pipeline::{self, SettingsError, Stats, Target};
 pub use crate::pipeline::{Mode, SolverKind};
-use crate::scene::{Camera, Scene};
+use crate::scene::{Camera, Emission, LoadOptions, Scene, SceneError};
 use crate::solver::{
     FormFactorKind, GpuSolver, ShotRecord, SolveError, SolveOptions, VisibilityKind,
 };
@@ -126,6 +126,10 @@ pub struct SolveArgs {
     /// power (1 to 4), each with its own item buffer, through one reconstruction pass.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=crate::solver::MAX_SHOOTERS_PER_PASS as i64))]
     pub shooters_per_pass: u32,
+    /// Make the material NAME emit light: emitted radiance R,G,B, as `Ke` in the MTL file (each 0
+    /// to 1e15; 0,0,0 turns an emitter off). Repeatable.
+    #[arg(long, value_name = "NAME=R,G,B", value_parser = values::emission, allow_hyphen_values = true)]
+    pub emit: Vec<Emission>,
     /// Camera position, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<Vec3>,
@@ -256,7 +260,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     // First: a signal from here on removes what this run staged and exits 1.
     display::output_set::exit_on_signals()?;
     check_solve_settings(args.threshold, args.patch_size, args.patches)?;
-    let (scene, scene_path) = pipeline::load_scene(args.scene.as_deref())?;
+    let (scene, scene_path) = load_scene(args.scene.as_deref(), &args.emit)?;
     let scene_name = scene_path.display().to_string();
     check_camera(args, &scene)?;
     let out_dir = args
@@ -382,6 +386,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         solver: args.solver,
         mode: args.mode,
         options,
+        emit: &args.emit,
         gl: info,
         threads: (args.solver == SolverKind::Cpu).then(|| rayon_threads(args.threads)),
     };
@@ -394,6 +399,18 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     set.publish()?;
     eprintln!("wrote {}", out_dir.display());
     Ok(SolveOutcome { stats, out_dir })
+}
+
+/// The scene with the `--emit` overrides applied (`solve` and `view`); an override the scene
+/// cannot take names the flag.
+pub(crate) fn load_scene(path: Option<&Path>, emit: &[Emission]) -> Result<(Scene, PathBuf)> {
+    let options = LoadOptions {
+        emit: emit.to_vec(),
+    };
+    pipeline::load_scene_with(path, &options).map_err(|e| match e {
+        SceneError::Emit { .. } => anyhow::anyhow!("{e} (set with --emit)"),
+        e => e.into(),
+    })
 }
 
 /// A solver error with the command-line flags that set what it speaks of.
@@ -435,7 +452,7 @@ fn check_camera(args: &SolveArgs, scene: &Scene) -> Result<()> {
     let rest = if scene.camera.is_some() {
         "the scene's `# camera` line"
     } else {
-        "the default view of the scene's bounds"
+        "the default camera"
     };
     if given.is_empty() {
         bail!("the camera from {rest}: {e}");
