@@ -110,7 +110,9 @@ impl Skipped {
             .collect();
         let listed: usize = counts.iter().take(10).map(|(_, n)| **n).sum();
         if listed < self.total {
-            parts.push(format!("{} others", self.total - listed));
+            let others = self.total - listed;
+            let s = if others == 1 { "" } else { "s" };
+            parts.push(format!("{others} other{s}"));
         }
         let s = if self.total == 1 { "" } else { "s" };
         Some(format!(
