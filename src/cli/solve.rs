@@ -262,7 +262,9 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     check_solve_settings(args.threshold, args.patch_size, args.patches)?;
     let (scene, scene_path) = load_scene(args.scene.as_deref(), &args.emit)?;
     let scene_name = scene_path.display().to_string();
-    check_camera(args, &scene)?;
+    // Without a `# camera` line, chosen by casting rays into the scene: once.
+    let camera = camera_from(args, scene.camera_or_default());
+    check_camera(args, &scene, &camera)?;
     let out_dir = args
         .out
         .clone()
@@ -373,7 +375,6 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         solution.solve_seconds()
     );
 
-    let camera = camera_from(args, scene.camera_or_default());
     let (atlas, ambient) = solution.display_atlas(&scene, &layout, args.ambient);
     if let Some(l) = ambient {
         eprintln!("ambient term: {:.5} {:.5} {:.5}", l.x, l.y, l.z);
@@ -436,8 +437,8 @@ pub(crate) fn with_flags(e: SolveError) -> anyhow::Error {
 /// Check the camera the picture will be taken with (the flags' values over the scene's camera)
 /// before solving. A usage error when flags set part of it; the scene's own camera line was
 /// checked when the scene loaded.
-fn check_camera(args: &SolveArgs, scene: &Scene) -> Result<()> {
-    let Err(e) = camera_from(args, scene.camera_or_default()).validate() else {
+fn check_camera(args: &SolveArgs, scene: &Scene, camera: &Camera) -> Result<()> {
+    let Err(e) = camera.validate() else {
         return Ok(());
     };
     let given: Vec<&str> = [
@@ -452,7 +453,7 @@ fn check_camera(args: &SolveArgs, scene: &Scene) -> Result<()> {
     let rest = if scene.camera.is_some() {
         "the scene's `# camera` line"
     } else {
-        "the default camera"
+        "the default view of the scene"
     };
     if given.is_empty() {
         bail!("the camera from {rest}: {e}");

@@ -89,11 +89,8 @@ impl MaterialFiles for BundledScene {
         }
     }
 
-    fn beside(&self) -> Vec<(PathBuf, Vec<u8>)> {
-        vec![(
-            self.path().with_extension("mtl"),
-            self.mtl.as_bytes().to_vec(),
-        )]
+    fn beside(&self) -> Vec<PathBuf> {
+        vec![self.path().with_extension("mtl")]
     }
 
     fn built_in(&self) -> bool {

@@ -23,15 +23,20 @@ pub fn allow_outside_materials(allow: bool) {
 pub(super) trait MaterialFiles {
     /// The bytes of the library `file` (the scene's folder joined with the `mtllib` name).
     fn read(&self, file: &Path) -> std::io::Result<Vec<u8>>;
-    /// The `.mtl` files in the scene's folder with their bytes, for the message that says which
-    /// of them defines the materials when the library an `mtllib` names is missing.
-    fn beside(&self) -> Vec<(PathBuf, Vec<u8>)>;
+    /// The `.mtl` files in the scene's folder (at most [`BESIDE`]), for the message that says
+    /// which of them defines the materials when the library an `mtllib` names is missing. They
+    /// are fetched with `read`, under its rules.
+    fn beside(&self) -> Vec<PathBuf>;
     /// Scenes built into the binary: their notes (statements skipped) are known and not
     /// repeated on every run; their warnings still are.
     fn built_in(&self) -> bool {
         false
     }
 }
+
+/// Most `.mtl` files of a folder looked into for a missing library: a folder of many is not
+/// read whole.
+pub(super) const BESIDE: usize = 64;
 
 /// A scene's folder on disk.
 pub(super) struct Folder<'a>(pub &'a Path);
@@ -44,7 +49,7 @@ impl MaterialFiles for Folder<'_> {
         read_regular(file, MAX_MTL_BYTES)
     }
 
-    fn beside(&self) -> Vec<(PathBuf, Vec<u8>)> {
+    fn beside(&self) -> Vec<PathBuf> {
         let Ok(entries) = std::fs::read_dir(self.0) else {
             return Vec::new();
         };
@@ -53,13 +58,8 @@ impl MaterialFiles for Folder<'_> {
             .filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("mtl")))
             .collect();
         files.sort();
-        // Only what `read` would read: a symbolic link out of the folder or a FIFO named
-        // x.mtl is not opened, let alone suggested. A folder of many files is not read whole.
+        files.truncate(BESIDE);
         files
-            .into_iter()
-            .take(64)
-            .filter_map(|f| Some((f.clone(), self.read(&f).ok()?)))
-            .collect()
     }
 }
 
@@ -140,6 +140,18 @@ pub fn shown(s: &str) -> String {
             }
         })
         .collect()
+}
+
+/// Longest part of a line echoed in a message, characters.
+const EXCERPT: usize = 80;
+
+/// `s` for a message quoting a line of a file: escaped, and cut after [`EXCERPT`] characters
+/// (a line may be a gigabyte long).
+pub(super) fn excerpt(s: &str) -> String {
+    match s.char_indices().nth(EXCERPT) {
+        Some((i, _)) => format!("{}…", shown(&s[..i])),
+        None => shown(s),
+    }
 }
 
 /// A path for messages, control characters escaped.

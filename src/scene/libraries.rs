@@ -76,7 +76,7 @@ pub(super) fn load_libraries(
         .collect();
     for (line, file, e) in &missing {
         let (lib, err) = (file_name(file), shown(&e.to_string()));
-        let hint = where_defined(&undefined, &files.beside(), &read);
+        let hint = where_defined(&undefined, files, &read);
         messages.push(format!(
             "warning: {}:{line}: cannot read the material library {lib} ({err}); {hint}",
             shown_path(path)
@@ -115,9 +115,9 @@ fn report(file: &Path, lib: &Library, messages: &mut Vec<String>) {
     }
 }
 
-/// Which of the `.mtl` files `candidates` (those not already `read`) define the `used`
+/// Which of the `.mtl` files beside the scene (those not already `read`) define the `used`
 /// materials that no library read defines, and what to do about it.
-fn where_defined(used: &[&str], candidates: &[(PathBuf, Vec<u8>)], read: &[PathBuf]) -> String {
+fn where_defined(used: &[&str], files: &dyn MaterialFiles, read: &[PathBuf]) -> String {
     let grey = "until then faces with those materials are grey";
     if used.is_empty() {
         return "the materials the scene uses are defined in its other libraries".into();
@@ -128,11 +128,13 @@ fn where_defined(used: &[&str], candidates: &[(PathBuf, Vec<u8>)], read: &[PathB
         format!("all {} materials used", used.len())
     };
     // Each candidate that parses, with how many of the used materials it defines.
-    let mut found: Vec<(String, Vec<&str>)> = candidates
+    let mut found: Vec<(String, Vec<&str>)> = files
+        .beside()
         .iter()
-        .filter(|(f, _)| !read.contains(f))
-        .filter_map(|(f, bytes)| {
-            let lib = parse_mtl(f, &decode(bytes)).ok()?;
+        .filter(|f| !read.contains(f))
+        .filter_map(|f| {
+            // One file in memory at a time; what does not read or parse is not suggested.
+            let lib = parse_mtl(f, &decode(&files.read(f).ok()?)).ok()?;
             let defines: Vec<&str> = used
                 .iter()
                 .copied()
@@ -185,16 +187,23 @@ fn quoted(names: &[&str]) -> String {
 mod tests {
     use super::*;
 
-    fn candidates(files: &[(&str, &str)]) -> Vec<(PathBuf, Vec<u8>)> {
-        files
-            .iter()
-            .map(|(n, t)| (PathBuf::from(n), t.as_bytes().to_vec()))
-            .collect()
+    /// Files in memory.
+    struct Files(Vec<(&'static str, &'static str)>);
+
+    impl MaterialFiles for Files {
+        fn read(&self, file: &Path) -> std::io::Result<Vec<u8>> {
+            let (_, text) = self.0.iter().find(|(n, _)| Path::new(n) == file).unwrap();
+            Ok(text.as_bytes().to_vec())
+        }
+
+        fn beside(&self) -> Vec<PathBuf> {
+            self.0.iter().map(|(n, _)| PathBuf::from(n)).collect()
+        }
     }
 
     #[test]
     fn the_hint_names_the_file_that_defines_the_materials() {
-        let files = candidates(&[
+        let files = Files(vec![
             ("other.mtl", "newmtl floor\nKd 1 1 1\n"),
             (
                 "CornellBox-Original.mtl",
@@ -210,14 +219,14 @@ mod tests {
             ),
             "{hint}"
         );
-        let hint = where_defined(&["floor", "light"], &files[..1], &[]);
+        let hint = where_defined(&["floor", "light"], &Files(files.0[..1].to_vec()), &[]);
         assert!(
             hint.starts_with(
                 "other.mtl in the same folder defines 1 of the 2 materials used ('floor')"
             ),
             "{hint}"
         );
-        let hint = where_defined(&["floor"], &[], &[]);
+        let hint = where_defined(&["floor"], &Files(vec![]), &[]);
         assert!(
             hint.starts_with(
                 "no .mtl file in the same folder defines the materials used ('floor')"

@@ -4,7 +4,7 @@
 //! is skipped whatever its values and counted for one summary line.
 
 use super::error::SceneError;
-use super::files::shown;
+use super::files::{excerpt, shown};
 use super::statements::{statements, three_numbers, Skipped, Statement};
 use super::Material;
 use glam::Vec3;
@@ -88,7 +88,7 @@ fn reflectance(s: &Statement) -> Result<Vec3, String> {
         Some(v) if v.iter().all(|x| x.is_finite() && *x >= 0.0) => Ok(Vec3::from(v)),
         _ => Err(format!(
             "`Kd` needs three numbers, each 0 or more (above 1 is clamped to 1), got `{}`",
-            shown(&format!("Kd {}", s.rest))
+            format!("Kd {}", excerpt(s.rest))
         )),
     }
 }
@@ -99,7 +99,7 @@ fn emission(s: &Statement) -> Result<Vec3, String> {
         Some(v) if v.iter().all(|x| (0.0..=MAX_KE).contains(x)) => Ok(Vec3::from(v)),
         _ => Err(format!(
             "`Ke` needs three numbers in [0, {MAX_KE:e}], got `{}`",
-            shown(&format!("Ke {}", s.rest))
+            format!("Ke {}", excerpt(s.rest))
         )),
     }
 }

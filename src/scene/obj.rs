@@ -5,7 +5,7 @@
 //! (`s`, `l`, `p`, `vp`, `usemap`, `mg`, `cstype`, ...) is skipped and counted.
 
 use super::error::SceneError;
-use super::files::{shown, shown_path};
+use super::files::{excerpt, shown_path};
 use super::statements::{statements, Skipped, Statement};
 use glam::Vec3;
 use std::collections::HashMap;
@@ -85,7 +85,7 @@ pub(super) fn parse_obj(path: &Path, text: &str) -> Result<ObjFile, SceneError> 
                 if len < 3 {
                     return Err(bad(format!(
                         "a face needs at least three vertices, got {len} (`{}`)",
-                        shown(&format!("f {}", s.rest))
+                        format!("f {}", excerpt(s.rest))
                     )));
                 }
                 obj.faces.push(Face {
@@ -139,7 +139,7 @@ fn position(s: &Statement) -> Result<Vec3, String> {
         }
         count += 1;
     }
-    let line = || shown(&format!("v {}", s.rest));
+    let line = || format!("v {}", excerpt(s.rest));
     if count < 3 {
         return Err(format!("a vertex needs three numbers, got `{}`", line()));
     }
@@ -167,7 +167,7 @@ fn corner_index(
         .ok_or_else(|| {
             format!(
                 "face vertex `{}` does not name one of the {positions} vertices defined before it",
-                shown(corner)
+                excerpt(corner)
             )
         })?;
     let optional = |part: Option<&str>, count| match part {
@@ -178,7 +178,7 @@ fn corner_index(
         return Err(format!(
             "face vertex `{}` names a texture coordinate or normal that is not defined before \
              it ({texcoords} vt, {normals} vn)",
-            shown(corner)
+            excerpt(corner)
         ));
     }
     Ok(v)
@@ -275,5 +275,10 @@ mod tests {
             assert!(e.starts_with(&format!("s.obj:{line}: ")), "{text:?}: {e}");
             assert!(e.contains(needle), "{text:?}: {e}");
         }
+        // A long line is quoted in part.
+        let e = parse(&format!("v 0 0 {}x\n", "1".repeat(100_000)))
+            .unwrap_err()
+            .to_string();
+        assert!(e.len() < 200 && e.contains("11…`"), "{e}");
     }
 }
