@@ -87,8 +87,8 @@ fn reflectance(s: &Statement) -> Result<Vec3, String> {
     match three_numbers(s) {
         Some(v) if v.iter().all(|x| x.is_finite() && *x >= 0.0) => Ok(Vec3::from(v)),
         _ => Err(format!(
-            "`Kd` needs three numbers, each 0 or more (above 1 is clamped to 1), got `{}`",
-            format!("Kd {}", excerpt(s.rest))
+            "`Kd` needs three numbers, each 0 or more (above 1 is clamped to 1), got `Kd {}`",
+            excerpt(s.rest)
         )),
     }
 }
@@ -98,8 +98,8 @@ fn emission(s: &Statement) -> Result<Vec3, String> {
     match three_numbers(s) {
         Some(v) if v.iter().all(|x| (0.0..=MAX_KE).contains(x)) => Ok(Vec3::from(v)),
         _ => Err(format!(
-            "`Ke` needs three numbers in [0, {MAX_KE:e}], got `{}`",
-            format!("Ke {}", excerpt(s.rest))
+            "`Ke` needs three numbers in [0, {MAX_KE:e}], got `Ke {}`",
+            excerpt(s.rest)
         )),
     }
 }

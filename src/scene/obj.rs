@@ -84,8 +84,8 @@ pub(super) fn parse_obj(path: &Path, text: &str) -> Result<ObjFile, SceneError> 
                 let len = obj.corners.len() as u32 - start;
                 if len < 3 {
                     return Err(bad(format!(
-                        "a face needs at least three vertices, got {len} (`{}`)",
-                        format!("f {}", excerpt(s.rest))
+                        "a face needs at least three vertices, got {len} (`f {}`)",
+                        excerpt(s.rest)
                     )));
                 }
                 obj.faces.push(Face {
