@@ -25,7 +25,7 @@ use crate::display::output_set::OutputSet;
 use crate::display::{self, Image};
 use crate::gl::{limits, GlContext, GlError, GlInfo, LimitError};
 use crate::patches::{LayoutError, PatchLayout, Resolution};
-use crate::scene::{bundled, Camera, Scene, SceneError};
+use crate::scene::{bundled, Camera, Emission, LoadOptions, Scene, SceneError};
 use crate::solver::{
     visibility, Backend, CpuSolver, GpuSolver, PassTimes, ShotRecord, SolveError, SolveOptions,
     Solver, VisibilityKind,
@@ -160,7 +160,16 @@ pub fn check_limits(
 /// Load an OBJ scene (with its MTL), or the Cornell box built into the library for `None`;
 /// also the path that names it (`<built-in>/cornell/cornell.obj` for the built-in one).
 pub fn load_scene(path: Option<&Path>) -> Result<(Scene, PathBuf), SceneError> {
-    bundled::load_or_default(path)
+    load_scene_with(path, &LoadOptions::default())
+}
+
+/// [`load_scene`] with `options` applied before the check that the scene emits light: emission
+/// overrides make materials emitters (`--emit NAME=R,G,B`).
+pub fn load_scene_with(
+    path: Option<&Path>,
+    options: &LoadOptions,
+) -> Result<(Scene, PathBuf), SceneError> {
+    bundled::load_or_default(path, options)
 }
 
 /// The patch resolution: a patch size, else a patch count, else the scene's `# patch-size`,
@@ -349,6 +358,8 @@ pub struct Stats {
     /// threshold, max_shots and the pass settings.
     #[serde(flatten)]
     pub options: SolveOptions,
+    /// Emission overrides applied after loading (`--emit`), in order.
+    pub emit: Vec<Emission>,
     pub shots: u32,
     /// Visibility + reconstruction pass pairs (one per shooter cell of each shot).
     pub passes: u32,
@@ -373,6 +384,8 @@ pub struct Run<'a> {
     pub solver: SolverKind,
     pub mode: Mode,
     pub options: SolveOptions,
+    /// The emission overrides the scene was loaded with.
+    pub emit: &'a [Emission],
     pub gl: &'a GlInfo,
     /// CPU worker threads, for the CPU solver.
     pub threads: Option<usize>,
@@ -396,6 +409,7 @@ impl Stats {
             gl_renderer: run.gl.renderer.clone(),
             gl_version: run.gl.version.clone(),
             options: run.options,
+            emit: run.emit.to_vec(),
             shots: solution.shots,
             passes: solution.passes,
             solve_seconds: solution.solve_seconds(),

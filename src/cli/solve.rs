@@ -6,7 +6,7 @@ use crate::display::output_set::OutputSet;
 use crate::gl::{BackendChoice, GlContext, GlInfo};
 use crate::pipeline::{self, SettingsError, Stats, Target};
 pub use crate::pipeline::{Mode, SolverKind};
-use crate::scene::{Camera, Scene};
+use crate::scene::{Camera, Emission, LoadOptions, Scene, SceneError};
 use crate::solver::{
     FormFactorKind, GpuSolver, ShotRecord, SolveError, SolveOptions, VisibilityKind,
 };
@@ -130,6 +130,10 @@ pub struct SolveArgs {
     /// 0: every shot). Mode default: paper 0, accurate 0.003.
     #[arg(long, value_parser = values::share, allow_hyphen_values = true)]
     pub cut_above: Option<f32>,
+    /// Make the material NAME emit light: emitted radiance R,G,B, as `Ke` in the MTL file (each 0
+    /// to 1e15; 0,0,0 turns an emitter off). Repeatable.
+    #[arg(long, value_name = "NAME=R,G,B", value_parser = values::emission, allow_hyphen_values = true)]
+    pub emit: Vec<Emission>,
     /// Camera position, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<Vec3>,
@@ -270,9 +274,11 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     // First: a signal from here on removes what this run staged and exits 1.
     display::output_set::exit_on_signals()?;
     check_solve_settings(args.threshold(), args.patch_size, args.patches)?;
-    let (scene, scene_path) = pipeline::load_scene(args.scene.as_deref())?;
+    let (scene, scene_path) = load_scene(args.scene.as_deref(), &args.emit)?;
     let scene_name = scene_path.display().to_string();
-    check_camera(args, &scene)?;
+    // Without a `# camera` line, chosen by casting rays into the scene: once.
+    let camera = camera_from(args, scene.camera_or_default());
+    check_camera(args, &scene, &camera)?;
     let out_dir = args
         .out
         .clone()
@@ -383,7 +389,6 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         solution.solve_seconds()
     );
 
-    let camera = camera_from(args, scene.camera_or_default());
     let (atlas, ambient) = solution.display_atlas(&scene, &layout, args.ambient);
     if let Some(l) = ambient {
         eprintln!("ambient term: {:.5} {:.5} {:.5}", l.x, l.y, l.z);
@@ -396,6 +401,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         solver: args.solver,
         mode: args.mode,
         options,
+        emit: &args.emit,
         gl: info,
         threads: (args.solver == SolverKind::Cpu).then(|| rayon_threads(args.threads)),
     };
@@ -408,6 +414,18 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     set.publish()?;
     eprintln!("wrote {}", out_dir.display());
     Ok(SolveOutcome { stats, out_dir })
+}
+
+/// The scene with the `--emit` overrides applied (`solve` and `view`); an override the scene
+/// cannot take names the flag.
+pub(crate) fn load_scene(path: Option<&Path>, emit: &[Emission]) -> Result<(Scene, PathBuf)> {
+    let options = LoadOptions {
+        emit: emit.to_vec(),
+    };
+    pipeline::load_scene_with(path, &options).map_err(|e| match e {
+        SceneError::Emit { .. } => anyhow::anyhow!("{e} (set with --emit)"),
+        e => e.into(),
+    })
 }
 
 /// A solver error with the command-line flags that set what it speaks of.
@@ -433,8 +451,8 @@ pub(crate) fn with_flags(e: SolveError) -> anyhow::Error {
 /// Check the camera the picture will be taken with (the flags' values over the scene's camera)
 /// before solving. A usage error when flags set part of it; the scene's own camera line was
 /// checked when the scene loaded.
-fn check_camera(args: &SolveArgs, scene: &Scene) -> Result<()> {
-    let Err(e) = camera_from(args, scene.camera_or_default()).validate() else {
+fn check_camera(args: &SolveArgs, scene: &Scene, camera: &Camera) -> Result<()> {
+    let Err(e) = camera.validate() else {
         return Ok(());
     };
     let given: Vec<&str> = [
@@ -449,7 +467,7 @@ fn check_camera(args: &SolveArgs, scene: &Scene) -> Result<()> {
     let rest = if scene.camera.is_some() {
         "the scene's `# camera` line"
     } else {
-        "the default view of the scene's bounds"
+        "the default view of the scene"
     };
     if given.is_empty() {
         bail!("the camera from {rest}: {e}");

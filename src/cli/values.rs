@@ -2,7 +2,7 @@
 //! clap's usage error (exit status 2) and the range in the message, before anything is solved.
 //! The ranges are listed in docs/usage.md.
 
-use crate::scene::FOV_RANGE;
+use crate::scene::{Emission, FOV_RANGE, MAX_KE};
 
 /// Most shots a solve may ask for: the bench's own cap; more only spins on a solve that has
 /// stopped converging.
@@ -105,6 +105,31 @@ pub fn tessellation(s: &str) -> Result<f32, String> {
     }
 }
 
+/// `--emit NAME=R,G,B`: a material name (everything before the last `=`) and an emitted
+/// radiance of three numbers in [0, [`MAX_KE`]].
+pub fn emission(s: &str) -> Result<Emission, String> {
+    let usage = || format!("expected NAME=R,G,B (a material and its emitted radiance), got '{s}'");
+    let (name, rgb) = s.rsplit_once('=').ok_or_else(usage)?;
+    if name.is_empty() {
+        return Err(usage());
+    }
+    let v: Vec<f32> = rgb
+        .split(',')
+        .map(|t| t.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| usage())?;
+    match v[..] {
+        [r, g, b] if v.iter().all(|c| (0.0..=MAX_KE).contains(c)) => Ok(Emission {
+            material: name.to_string(),
+            ke: [r, g, b],
+        }),
+        [_, _, _] => Err(format!(
+            "the radiance in '{s}' must be three numbers from 0 to {MAX_KE:e}"
+        )),
+        _ => Err(usage()),
+    }
+}
+
 /// Most CPU worker threads: 4 per core. More threads than cores only add switching; at 1024 on
 /// two cores a 20-shot Cornell solve took over two minutes instead of 5 s.
 pub fn max_threads() -> usize {
@@ -152,5 +177,31 @@ mod tests {
         assert!(threads("0").is_ok() && threads(&max_threads().to_string()).is_ok());
         assert!(threads(&(max_threads() + 1).to_string()).is_err());
         assert!(threads("-1").is_err());
+        let e = emission("Light = 1=17,12,4").unwrap();
+        assert_eq!(
+            (e.material.as_str(), e.ke),
+            ("Light = 1", [17.0, 12.0, 4.0])
+        );
+        assert_eq!(emission("Glass=0,0,0").unwrap().ke, [0.0; 3]);
+        for bad in [
+            "Glass",
+            "=1,1,1",
+            "Glass=1,1",
+            "Glass=1,1,1,1",
+            "Glass=a,1,1",
+        ] {
+            assert!(emission(bad).unwrap_err().contains("NAME=R,G,B"), "{bad}");
+        }
+        for bad in [
+            "Glass=-1,1,1",
+            "Glass=nan,1,1",
+            "Glass=inf,1,1",
+            "Glass=1e16,1,1",
+        ] {
+            assert!(
+                emission(bad).unwrap_err().contains("from 0 to 1e15"),
+                "{bad}"
+            );
+        }
     }
 }

@@ -3,6 +3,7 @@
 use super::solve::{parse_size, Mode};
 use super::values;
 use crate::pipeline::DEFAULT_PATCHES;
+use crate::scene::Emission;
 use crate::viewer::{self, Overlay, ViewOptions};
 use anyhow::Result;
 use clap::value_parser;
@@ -35,6 +36,9 @@ pub struct ViewArgs {
     /// Patch side in scene units (> 0).
     #[arg(long, value_parser = values::positive, allow_hyphen_values = true)]
     pub patch_size: Option<f32>,
+    /// Make the material NAME emit light, as for `solve` (radiance R,G,B, as `Ke`). Repeatable.
+    #[arg(long, value_name = "NAME=R,G,B", value_parser = values::emission, allow_hyphen_values = true)]
+    pub emit: Vec<Emission>,
     /// Size of the scene view, WxH pixels (the panel is added on the right).
     #[arg(long, value_parser = parse_size, default_value = "720x720", allow_hyphen_values = true)]
     pub size: (u32, u32),
@@ -70,6 +74,7 @@ pub fn run_view(args: &ViewArgs) -> Result<()> {
     super::solve::check_solve_settings(args.threshold, args.patch_size, args.patches)?;
     viewer::run(ViewOptions {
         scene: args.scene.clone(),
+        emit: args.emit.clone(),
         mode: args.mode,
         threshold: args.threshold,
         patch_size: args.patch_size,

@@ -83,7 +83,10 @@ struct Viewer {
 }
 
 pub fn run(options: ViewOptions) -> Result<()> {
-    let (scene, _) = crate::pipeline::load_scene(options.scene.as_deref())?;
+    let load = crate::scene::LoadOptions {
+        emit: options.emit.clone(),
+    };
+    let (scene, _) = crate::pipeline::load_scene_with(options.scene.as_deref(), &load)?;
     let event_loop = EventLoop::new().map_err(|e| {
         anyhow!(
             "cannot open a window: no display ({e}). Run it on a desktop, or headless under \

@@ -25,6 +25,8 @@ pub use crate::pipeline::Mode as ViewMode;
 pub struct ViewOptions {
     /// The OBJ file; `None`: the Cornell box built into the binary.
     pub scene: Option<PathBuf>,
+    /// Emission overrides applied after loading (`--emit NAME=R,G,B`).
+    pub emit: Vec<crate::scene::Emission>,
     pub mode: ViewMode,
     /// Stop when unshot power / emitted power ≤ this. Range (0, 1); typical 0.01.
     pub threshold: f32,
