@@ -420,6 +420,11 @@ fn check_mode(mode: Mode, kind: SolverKind, shots: u32) {
     let s = solve(&ctx, &w.obj, mode, kind, shots);
     let camera = s.scene.camera_or_default();
     let (flat, smooth) = (render(&ctx, &s, 0.0), render(&ctx, &s, 40.0));
+    if let (Ok(path), Mode::Accurate, SolverKind::Gpu) =
+        (std::env::var("SMOOTH_PICTURE"), mode, kind)
+    {
+        write_side_by_side(Path::new(&path), &flat, &smooth);
+    }
     let smoothing = Smoothing::new(&s.scene, &s.layout, 40.0);
     // The sphere's triangles and the column's sides; not the column's cap, the box's coplanar
     // tiles, the walls or the light.
@@ -466,6 +471,23 @@ fn check_mode(mode: Mode, kind: SolverKind, shots: u32) {
             );
         }
     }
+}
+
+/// `SMOOTH_PICTURE=docs/smooth.png cargo test --release --test smooth_display accurate` draws
+/// paper_notes.md's picture: without smoothing on the left, with it on the right.
+fn write_side_by_side(path: &Path, left: &Image, right: &Image) {
+    let (w, h) = (left.width as usize, left.height as usize);
+    let mut rgb = Vec::with_capacity(2 * w * h * 3);
+    for y in 0..h {
+        rgb.extend_from_slice(&left.rgb[y * w * 3..(y + 1) * w * 3]);
+        rgb.extend_from_slice(&right.rgb[y * w * 3..(y + 1) * w * 3]);
+    }
+    let both = Image {
+        width: 2 * w as u32,
+        height: h as u32,
+        rgb,
+    };
+    gpu_radiosity::display::output::write_png(path, &both, 1.5).unwrap();
 }
 
 #[test]
