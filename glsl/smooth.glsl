@@ -1,6 +1,8 @@
 // Smooth shading of curved surfaces (src/display/smooth.rs, beyond the paper): the lightmap
 // plus the corrections of the face's smooth edges, inserted into glsl/display.frag and
-// glsl/viewer.frag. SmoothEdges holds four RGBA texels per smooth edge, rows of any width:
+// glsl/viewer.frag after the #defines of SMOOTH_FULL and SMOOTH_FADE (texels: smooth.rs's
+// FULL_TEXELS and FADE_TEXELS). SmoothEdges holds four RGBA texels per smooth edge, rows of any
+// width:
 //   A.xy B.xy      the edge's ends in this face's lightmap (atlas texels)
 //   A'.xy B'.xy    the same points in the neighbour's lightmap
 //   KA.rgb, lit    V - M at A (vertex radiance minus the two faces' mean), this face has patches
@@ -49,8 +51,8 @@ vec3 smoothRadiance(sampler2D lightmap, vec2 uv, vec2 range)
         weights += w;
         nearest = min(nearest, d);
     }
-    // Whole within FULL_TEXELS (1) of a smooth edge, none beyond FULL + FADE_TEXELS (2).
-    float fade = clamp(2.0 - nearest, 0.0, 1.0);
+    // Whole within SMOOTH_FULL texels of a smooth edge, none beyond SMOOTH_FULL + SMOOTH_FADE.
+    float fade = clamp((SMOOTH_FULL + SMOOTH_FADE - nearest) / SMOOTH_FADE, 0.0, 1.0);
     // A correction never makes radiance negative.
     return max(c + fade * sum / weights, min(c, vec3(0.0)));
 }

@@ -5,6 +5,7 @@
 //! `radiosity solve` writes).
 
 use super::mesh::{DisplayMesh, ATTRIBUTES};
+use super::smooth::{FADE_TEXELS, FULL_TEXELS};
 use crate::gl::program::Source;
 use crate::gl::{Framebuffer, GlContext, GlError, Program, Renderbuffer, Texture, TextureFormat};
 use crate::glsl;
@@ -85,7 +86,11 @@ impl DisplayPass {
         fragment: Source,
     ) -> Result<Self, GlError> {
         let gl = &ctx.gl;
-        let fragment = fragment.insert(&glsl!("smooth.glsl").text);
+        let smooth = format!(
+            "#define SMOOTH_FULL {FULL_TEXELS:?}\n#define SMOOTH_FADE {FADE_TEXELS:?}\n{}",
+            glsl!("smooth.glsl").text
+        );
+        let fragment = fragment.insert(&smooth);
         let program = Program::new(gl, vertex, fragment, ATTRIBUTES, &[(0, "Color")])?;
         let lightmap = Texture::new(
             gl,

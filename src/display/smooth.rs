@@ -11,7 +11,7 @@
 //! - **Smooth edges**: two faces share an edge (both ends welded within 1e-5 of the scene's size,
 //!   run in opposite directions as on one consistently wound surface), have the same material (a
 //!   change of material is a real edge in the picture), and their normals are less than the crease
-//!   angle apart (`--smooth-angle`, default [`DEFAULT_ANGLE`]°: a box's 90° edges never qualify)
+//!   angle apart (`--smooth-angle`, default [`DEFAULT_ANGLE`]°: a box's 90° edges never qualify).
 //!   Coplanar faces (less than [`MIN_BEND`]° apart) only on a curved surface, such as the two
 //!   triangles of a sphere's quad: a floor's pieces have no facet to hide.
 //! - **Vertices** (Cohen & Wallace's per-vertex radiosity): the corners joined by smooth edges
@@ -49,14 +49,14 @@ pub const DEFAULT_ANGLE: f32 = 40.0;
 /// Crease angles are below this: at a right angle and beyond, a box's corners would be averaged.
 pub const MAX_ANGLE: f32 = 90.0;
 /// Faces that turn less than this (degrees) from each other are one plane: smooth only when both
-/// are facets of a curved surface (each has an edge that bends more). Elsewhere they see the light from the
-/// same side, so a jump between them is real light (the floor under a rug beside the floor next
-/// to it, cut along the rug's outline) and stays.
+/// are facets of a curved surface (each has an edge that bends more). Elsewhere they see the
+/// light from the same side, so a jump between them is real light (the floor under a rug beside
+/// the floor next to it, cut along the rug's outline) and stays.
 pub const MIN_BEND: f32 = 1.0;
-/// Within this many texels of a smooth edge a face takes the edges' whole correction
-/// (`glsl/smooth.glsl` has the same numbers)...
+/// Within this many texels of a smooth edge a face takes the edges' whole correction (defined
+/// into `glsl/smooth.glsl` as `SMOOTH_FULL`)...
 pub const FULL_TEXELS: f32 = 1.0;
-/// ...fading to none over this many more.
+/// ...fading to none over this many more (`SMOOTH_FADE`).
 pub const FADE_TEXELS: f32 = 1.0;
 /// A face with more smooth edges than this (a large merged outline) keeps its lightmap, and its
 /// neighbours do not blend towards it: the display loops over a face's smooth edges per pixel.
@@ -729,6 +729,32 @@ mod tests {
             ]
         );
         assert!((triangle_edge[8] - square_edge[12]).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_face_with_too_many_smooth_edges_keeps_its_lightmap() {
+        // A 40-gon with a ring of 40 quads around it, sloping 10° down: a shallow dome.
+        let n = 40;
+        let ring = |i: usize, r: f32, y: f32| {
+            let phi = std::f32::consts::TAU * i as f32 / n as f32;
+            Vec3::new(r * phi.cos(), y, -r * phi.sin())
+        };
+        let up = |mut v: Vec<Vec3>| {
+            if polygon(&v).normal.y < 0.0 {
+                v.reverse();
+            }
+            polygon(&v)
+        };
+        let drop = -(10f32.to_radians().tan());
+        let mut faces = vec![up((0..n).map(|i| ring(i, 1.0, 0.0)).collect())];
+        for i in 0..n {
+            let (a, b) = (ring(i, 1.0, 0.0), ring(i + 1, 1.0, 0.0));
+            faces.push(up(vec![a, ring(i, 2.0, drop), ring(i + 1, 2.0, drop), b]));
+        }
+        let (_, _, s) = smoothing(faces, DEFAULT_ANGLE);
+        assert!(!s.is_smoothed(0));
+        // The quads still blend with each other, not towards the cap.
+        assert_eq!((s.smoothed_polygons(), s.edge_count()), (n, 2 * n));
     }
 
     #[test]
