@@ -151,6 +151,16 @@ pub struct SolveArgs {
     /// lightmap.exr stays the solver's answer).
     #[arg(long)]
     pub ambient: bool,
+    /// Beyond the paper, for the images: faces of one material meeting at less than this angle
+    /// (degrees, 0 to under 90; 0: off) are shaded smooth across their shared edges, so that
+    /// tessellated spheres and columns look round (lightmap.exr stays the solver's answer).
+    #[arg(
+        long,
+        default_value_t = crate::display::smooth::DEFAULT_ANGLE,
+        value_parser = values::smooth_angle,
+        allow_hyphen_values = true,
+    )]
+    pub smooth_angle: f32,
     /// Multiplier applied to radiance before tone mapping image.png (finite, > 0).
     #[arg(long, default_value_t = 1.0, value_parser = values::positive, allow_hyphen_values = true)]
     pub exposure: f32,
@@ -393,7 +403,18 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     if let Some(l) = ambient {
         eprintln!("ambient term: {:.5} {:.5} {:.5}", l.x, l.y, l.z);
     }
-    let image = pipeline::render(&ctx, &scene, &layout, &atlas, &camera, args.size)?;
+    let smoothing = display::Smoothing::new(&scene, &layout, args.smooth_angle);
+    if smoothing.smoothed_polygons() > 0 {
+        eprintln!(
+            "smooth shading: {} polygons of curved surfaces (faces of one material meeting at \
+             less than {}°, --smooth-angle)",
+            smoothing.smoothed_polygons(),
+            smoothing.angle()
+        );
+    }
+    let image = pipeline::render_smoothed(
+        &ctx, &scene, &layout, &atlas, &smoothing, &camera, args.size,
+    )?;
     let run = pipeline::Run {
         scene_name,
         scene: &scene,
@@ -404,6 +425,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         emit: &args.emit,
         gl: info,
         threads: (args.solver == SolverKind::Cpu).then(|| rayon_threads(args.threads)),
+        smoothing: &smoothing,
     };
     let stats = Stats::new(run, &solution, ambient);
     pipeline::write_outputs(&set, &image, args.exposure, &layout, &solution, &stats)?;

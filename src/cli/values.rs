@@ -2,6 +2,7 @@
 //! clap's usage error (exit status 2) and the range in the message, before anything is solved.
 //! The ranges are listed in docs/usage.md.
 
+use crate::display::smooth::MAX_ANGLE;
 use crate::scene::{Emission, FOV_RANGE, MAX_KE};
 
 /// Most shots a solve may ask for: the bench's own cap; more only spins on a solve that has
@@ -93,6 +94,19 @@ pub fn fov(s: &str) -> Result<f32, String> {
     }
 }
 
+/// The smooth shading's crease angle, degrees: 0 (off) up to [`MAX_ANGLE`] (excluded).
+pub fn smooth_angle(s: &str) -> Result<f32, String> {
+    let v = number(s)?;
+    if (0.0..MAX_ANGLE).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{s} is outside 0 ≤ DEG < {MAX_ANGLE} degrees (0: no smoothing; at {MAX_ANGLE} a box's \
+             corners would be averaged)"
+        ))
+    }
+}
+
 /// Tessellation: 0 (off), or at least [`MIN_TESSELLATION`] patch sizes.
 pub fn tessellation(s: &str) -> Result<f32, String> {
     let v = number(s)?;
@@ -173,6 +187,10 @@ mod tests {
         assert!(tessellation("0").is_ok() && tessellation("2").is_ok());
         for bad in ["1e-9", "-1", "nan", "inf"] {
             assert!(tessellation(bad).is_err(), "{bad}");
+        }
+        assert!(smooth_angle("0").is_ok() && smooth_angle("89.9").is_ok());
+        for bad in ["90", "-1", "nan", "inf", "x"] {
+            assert!(smooth_angle(bad).is_err(), "{bad}");
         }
         assert!(threads("0").is_ok() && threads(&max_threads().to_string()).is_ok());
         assert!(threads(&(max_threads() + 1).to_string()).is_err());

@@ -45,6 +45,14 @@ pub struct ViewArgs {
     /// Multiplier applied to radiance before tone mapping, as for `solve` (finite, > 0).
     #[arg(long, default_value_t = 1.0, value_parser = values::positive, allow_hyphen_values = true)]
     pub exposure: f32,
+    /// Crease angle of the smooth shading, degrees, as for `solve` (0 to under 90; 0: off).
+    #[arg(
+        long,
+        default_value_t = crate::display::smooth::DEFAULT_ANGLE,
+        value_parser = values::smooth_angle,
+        allow_hyphen_values = true,
+    )]
+    pub smooth_angle: f32,
     /// Most shots per frame while running, 1 to 64 (the window stays responsive).
     #[arg(
         long,
@@ -81,6 +89,7 @@ pub fn run_view(args: &ViewArgs) -> Result<()> {
         patches: args.patches.unwrap_or(DEFAULT_PATCHES),
         size: args.size,
         exposure: args.exposure,
+        smooth_angle: args.smooth_angle,
         shots_per_frame: args.shots_per_frame,
         overlays: args.overlays.clone(),
         screenshot: args.screenshot.clone().zip(args.after_shots),

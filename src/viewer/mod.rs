@@ -38,6 +38,9 @@ pub struct ViewOptions {
     pub size: (u32, u32),
     /// Radiance multiplier before tone mapping, as `solve --exposure`. Typical 1.
     pub exposure: f32,
+    /// Crease angle of the smooth shading, degrees, as `solve --smooth-angle` (0: off). Range
+    /// [0, 90); typical `display::smooth::DEFAULT_ANGLE`.
+    pub smooth_angle: f32,
     /// Most shots per frame while running. Range 1..=64; typical 4.
     pub shots_per_frame: u32,
     pub overlays: Vec<Overlay>,
