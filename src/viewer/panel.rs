@@ -360,7 +360,8 @@ mod tests {
                 message: None,
             };
             let mut shown = None;
-            self.ctx.run(input, |ctx| {
+            // Nothing is painted: the tests read the layout and the controls.
+            let _shapes = self.ctx.run(input, |ctx| {
                 shown = Some(show(ctx, &mut self.controls, &readout));
             });
             shown.expect("the panel ran")
