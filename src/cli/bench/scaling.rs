@@ -44,7 +44,7 @@ pub struct Run {
     /// The shot count `loop_to_convergence_s` assumes.
     #[serde(default)]
     pub shots_to_convergence: u32,
-    /// Loop seconds after every [`PROGRESS_STEP`] shots, for extrapolating the runs of the same
+    /// Loop seconds after every `PROGRESS_STEP` shots, for extrapolating the runs of the same
     /// room and solver that the budget stops.
     #[serde(default)]
     pub progress: Vec<f64>,
