@@ -8,6 +8,7 @@
 use super::camera::OrbitCamera;
 use super::overlays::{Insets, OverlaySet};
 use super::panel::{self, Actions, Controls, Readout};
+use super::reach::Reach;
 use super::session::Session;
 use super::{ViewMode, ViewOptions};
 use crate::display::output::{write_atomic, Payload};
@@ -80,6 +81,8 @@ struct Viewer {
     last_frame: Instant,
     message: Option<String>,
     settle: u32,
+    /// Where the panel's controls were in the last frame (printed with a screenshot).
+    reach: Reach,
 }
 
 pub fn run(options: ViewOptions) -> Result<()> {
@@ -164,6 +167,7 @@ pub fn run(options: ViewOptions) -> Result<()> {
         last_frame: Instant::now(),
         message: None,
         settle: 0,
+        reach: Reach::default(),
     };
     let result = solves(&mut viewer, &ctx, &scene);
     viewer.gui.painter.destroy();
@@ -274,6 +278,7 @@ fn frames(v: &mut Viewer, ctx: &GlContext, scene: &Scene, s: &mut Session) -> Re
                     w,
                     h
                 );
+                eprintln!("{}", v.reach);
                 return Ok(Next::Quit);
             }
         }
@@ -422,9 +427,12 @@ fn draw(v: &mut Viewer, ctx: &GlContext, scene: &Scene, s: &Session) -> Result<(
     let gui = &mut v.gui;
     let controls = &mut v.controls;
     let mut actions = Actions::default();
+    let reach = &mut v.reach;
     let input = gui.state.take_egui_input(&v.window.window);
     let out = gui.ctx.run(input, |ui| {
-        actions = panel::show(ui, controls, &readout);
+        let shown = panel::show(ui, controls, &readout);
+        actions = shown.actions;
+        *reach = shown.reach;
     });
     gui.state
         .handle_platform_output(&v.window.window, out.platform_output);

@@ -5,12 +5,13 @@
 //! `app.rs` is the frame loop (events → a bounded number of shots → draw → panel → present);
 //! `session.rs` one solve (layout, solver, the textures the frame draws from; rebuilt on reset);
 //! `camera.rs` the orbit camera; `overlays.rs` the overlays and insets; `panel.rs` the egui side
-//! panel.
+//! panel; `reach.rs` which of the panel's controls a user can reach (in view, or by scrolling).
 
 mod app;
 pub mod camera;
 pub mod overlays;
 mod panel;
+mod reach;
 mod session;
 
 pub use overlays::Overlay;
