@@ -261,7 +261,8 @@ impl<'a, B: Backend> Solver<'a, B> {
         let magnitude = self.ledger.unshot_fraction() * self.ledger.emitted_power() / ceiling;
         let runaway =
             growth > 1.0 + 5e-3 || !growth.is_finite() || !magnitude.is_finite() || magnitude > 2.0;
-        if !runaway && !(over && self.options.conserve) {
+        let refused = runaway || (over && self.options.conserve);
+        if !refused {
             if over && !self.excess_reported.replace(true) {
                 eprintln!(
                     "warning: shot {} delivered {:.3}x the power it carried ({}); the patches near \
