@@ -9,7 +9,6 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glow::HasContext;
-use gpu_radiosity::cli::bench::bench_options;
 use gpu_radiosity::gl::{BackendChoice, GlContext};
 use gpu_radiosity::patches::{PatchLayout, Resolution};
 use gpu_radiosity::scene::load_obj;
@@ -26,7 +25,7 @@ fn passes(c: &mut Criterion) {
     let size = scene.patch_size.expect("the room sets its patch size");
     // The layout the GPU solver works in (no gutters), so that the pieces run as in a solve.
     let layout = PatchLayout::new(&scene, Resolution::PatchSize(size)).without_gutters();
-    let options = bench_options(0.01);
+    let options = gpu_radiosity::solver::SolveOptions::paper_faithful(0.01);
     let ctx = GlContext::headless(BackendChoice::Auto).expect("a GL 3.0 context");
     let finish = || unsafe { ctx.gl.finish() };
 

@@ -5,7 +5,7 @@
 //! timed. Two runs of the same configuration agree to about 0.5 %; run A/B and B/A both.
 //!
 //! `cargo run --release --example interleaved_ab -- SCENE.obj SHOTS A B`, where A and B are
-//! comma-separated changes to the fast configuration (`bench::fast_options`):
+//! comma-separated changes to the fast configuration (`SolveOptions::whole_polygons`):
 //! `base` (none), `paper` (the paper-faithful row's options), `accurate` (`radiosity solve`'s
 //! default mode), `kN` (N shooters per pass),
 //! `no-overshoot`, `small=N` (the small shots' item-buffer side), `min=N` (the smallest shots'
@@ -16,7 +16,6 @@
 //! that change the answer may make them take different ones.
 
 use glow::HasContext;
-use gpu_radiosity::cli::bench::{bench_options, fast_options};
 use gpu_radiosity::gl::{BackendChoice, GlContext};
 use gpu_radiosity::patches::{PatchLayout, Resolution};
 use gpu_radiosity::scene::load_obj;
@@ -28,12 +27,12 @@ use std::time::Instant;
 const UNTIMED_ROUNDS: u32 = 10;
 
 fn configuration(changes: &str) -> SolveOptions {
-    let mut o = fast_options(0.01);
+    let mut o = gpu_radiosity::solver::SolveOptions::whole_polygons(0.01);
     for change in changes.split(',') {
         let t = &mut o.tuning;
         match change {
             "" | "base" => {}
-            "paper" => o = bench_options(0.01),
+            "paper" => o = gpu_radiosity::solver::SolveOptions::paper_faithful(0.01),
             "accurate" => o = SolveOptions::accurate(),
             k if k.starts_with('k') => o.shooters_per_pass = k[1..].parse().expect("kN: a count"),
             "no-overshoot" => o.overshoot = false,

@@ -1,6 +1,7 @@
 #version 130
-// Viewer: the display pass's bilinear lookup in the (dilated) radiance atlas, tone-mapped for
-// the window exactly as image.png is (exposure, clamp to 1, sRGB curve), with the overlays:
+// Viewer: the display pass's lookup in the (dilated) radiance atlas, smoothed across curved
+// surfaces' edges (glsl/smooth.glsl, inserted before this), tone-mapped for the window exactly
+// as image.png is (exposure, clamp to 1, sRGB curve), with the overlays:
 //   HeatMap  the unshot radiance of each patch instead, log scale, HeatDecades below HeatMax
 //   Borders  the patch (texel) grid
 //   the last shooter striped orange, the next one striped cyan (ID -1: none)
@@ -18,6 +19,7 @@ uniform float NextShooter;
 
 in vec2 UV;
 flat in float Id;
+flat in vec2 Edges;
 out vec4 Color;
 
 vec3 srgb(vec3 c)
@@ -46,7 +48,7 @@ void main()
         c = u.a > 0.0 ? heat(l > 0.0 ? 1.0 + (log(l) / log(10.0) - HeatMax) / HeatDecades : 0.0)
                       : vec3(0.25);
     } else {
-        c = srgb(clamp(texture(Lightmap, UV).rgb * Exposure, 0.0, 1.0));
+        c = srgb(clamp(smoothRadiance(Lightmap, UV, Edges) * Exposure, 0.0, 1.0));
     }
     if (Borders != 0) {
         vec2 t = UV * AtlasSize;

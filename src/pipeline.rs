@@ -22,10 +22,10 @@
 
 use crate::display::output::{self, Payload};
 use crate::display::output_set::OutputSet;
-use crate::display::{self, Image};
+use crate::display::{self, DisplayMesh, Image, Smoothing};
 use crate::gl::{limits, GlContext, GlError, GlInfo, LimitError};
 use crate::patches::{LayoutError, PatchLayout, Resolution};
-use crate::scene::{bundled, Camera, Scene, SceneError};
+use crate::scene::{bundled, Camera, Emission, LoadOptions, Scene, SceneError};
 use crate::solver::{
     visibility, Backend, CpuSolver, GpuSolver, PassTimes, ShotRecord, SolveError, SolveOptions,
     Solver, VisibilityKind,
@@ -160,7 +160,16 @@ pub fn check_limits(
 /// Load an OBJ scene (with its MTL), or the Cornell box built into the library for `None`;
 /// also the path that names it (`<built-in>/cornell/cornell.obj` for the built-in one).
 pub fn load_scene(path: Option<&Path>) -> Result<(Scene, PathBuf), SceneError> {
-    bundled::load_or_default(path)
+    load_scene_with(path, &LoadOptions::default())
+}
+
+/// [`load_scene`] with `options` applied before the check that the scene emits light: emission
+/// overrides make materials emitters (`--emit NAME=R,G,B`).
+pub fn load_scene_with(
+    path: Option<&Path>,
+    options: &LoadOptions,
+) -> Result<(Scene, PathBuf), SceneError> {
+    bundled::load_or_default(path, options)
 }
 
 /// The patch resolution: a patch size, else a patch count, else the scene's `# patch-size`,
@@ -308,7 +317,8 @@ pub fn solve(
 }
 
 /// Draw the lit scene from `camera` into a `size` float image (linear radiance, rows top to
-/// bottom), with `atlas` as [`Solution::display_atlas`] gives it.
+/// bottom), with `atlas` as [`Solution::display_atlas`] gives it, curved surfaces shaded smooth
+/// at the default crease angle ([`display::smooth::DEFAULT_ANGLE`]).
 pub fn render(
     ctx: &GlContext,
     scene: &Scene,
@@ -317,17 +327,25 @@ pub fn render(
     camera: &Camera,
     size: (u32, u32),
 ) -> Result<Image, GlError> {
-    let mesh =
-        crate::solver::mesh::upload(&ctx.gl, &crate::solver::mesh::vertex_data(scene, layout))?;
-    display::render(
-        ctx,
-        scene,
-        &mesh,
-        atlas,
-        (layout.atlas_width, layout.atlas_height),
-        camera,
-        size,
-    )
+    let smoothing = Smoothing::new(scene, layout, display::smooth::DEFAULT_ANGLE);
+    render_smoothed(ctx, scene, layout, atlas, &smoothing, camera, size)
+}
+
+/// [`render`] with the smooth edges of `smoothing` (`Smoothing::new(scene, layout, 0.0)`: none,
+/// each polygon its lightmap alone).
+pub fn render_smoothed(
+    ctx: &GlContext,
+    scene: &Scene,
+    layout: &PatchLayout,
+    atlas: &[f32],
+    smoothing: &Smoothing,
+    camera: &Camera,
+    size: (u32, u32),
+) -> Result<Image, GlError> {
+    let mut mesh = DisplayMesh::new(&ctx.gl, scene, layout, smoothing.clone())?;
+    let atlas_size = (layout.atlas_width, layout.atlas_height);
+    mesh.update(atlas, atlas_size.0, atlas_size.1);
+    display::render(ctx, scene, &mesh, atlas, atlas_size, camera, size)
 }
 
 /// Everything `stats.json` holds (docs/conventions.md's contract, plus timings and settings).
@@ -349,6 +367,8 @@ pub struct Stats {
     /// threshold, max_shots and the pass settings.
     #[serde(flatten)]
     pub options: SolveOptions,
+    /// Emission overrides applied after loading (`--emit`), in order.
+    pub emit: Vec<Emission>,
     pub shots: u32,
     /// Visibility + reconstruction pass pairs (one per shooter cell of each shot).
     pub passes: u32,
@@ -359,6 +379,10 @@ pub struct Stats {
     pub emitted_power: f64,
     /// The ambient radiance added to the images (with the ambient term), RGB.
     pub ambient: Option<[f32; 3]>,
+    /// The images' smooth shading: its crease angle in degrees (0: off)...
+    pub smooth_angle: f32,
+    /// ...and the polygons it smooths (those with a smooth edge).
+    pub smoothed_polygons: usize,
     /// Seconds per pass, by name.
     pub pass_seconds: PassTimes,
     pub history: Vec<ShotRecord>,
@@ -373,9 +397,13 @@ pub struct Run<'a> {
     pub solver: SolverKind,
     pub mode: Mode,
     pub options: SolveOptions,
+    /// The emission overrides the scene was loaded with.
+    pub emit: &'a [Emission],
     pub gl: &'a GlInfo,
     /// CPU worker threads, for the CPU solver.
     pub threads: Option<usize>,
+    /// The smooth edges the images were shaded with.
+    pub smoothing: &'a Smoothing,
 }
 
 impl Stats {
@@ -396,6 +424,7 @@ impl Stats {
             gl_renderer: run.gl.renderer.clone(),
             gl_version: run.gl.version.clone(),
             options: run.options,
+            emit: run.emit.to_vec(),
             shots: solution.shots,
             passes: solution.passes,
             solve_seconds: solution.solve_seconds(),
@@ -403,6 +432,8 @@ impl Stats {
             unshot_fraction: solution.unshot_fraction,
             emitted_power: solution.emitted_power,
             ambient: ambient.map(|l| l.to_array()),
+            smooth_angle: run.smoothing.angle(),
+            smoothed_polygons: run.smoothing.smoothed_polygons(),
             pass_seconds: solution.pass_seconds.clone(),
             history: solution.history.clone(),
         }

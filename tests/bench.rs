@@ -176,8 +176,9 @@ fn scaling_reports_each_size_and_solver_with_an_exponent_and_a_plot() {
 
 #[test]
 fn scaling_times_the_fast_configuration_when_asked() {
-    use gpu_radiosity::cli::bench::{bench_options, fast_options, gpu_run, room};
+    use gpu_radiosity::cli::bench::{gpu_run, room};
     use gpu_radiosity::gl::BackendChoice;
+    use gpu_radiosity::solver::SolveOptions;
     let dir = tempfile::tempdir().unwrap();
     let json = dir.path().join("scaling-fast.json");
     run_ok(
@@ -207,8 +208,8 @@ fn scaling_times_the_fast_configuration_when_asked() {
             .unwrap()
             .2
     };
-    let fast = shots(fast_options(0.2));
+    let fast = shots(SolveOptions::whole_polygons(0.2));
     assert_eq!(runs[0]["solver"], "gpu");
     assert_eq!(runs[0]["shots"].as_u64(), Some(fast as u64), "{}", runs[0]);
-    assert_ne!(fast, shots(bench_options(0.2)));
+    assert_ne!(fast, shots(SolveOptions::paper_faithful(0.2)));
 }

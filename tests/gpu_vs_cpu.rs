@@ -76,7 +76,7 @@ fn a_pane_in_front_of_a_wall_casts_its_shadow() {
     let size = scene.patch_size.unwrap();
     let layout = PatchLayout::new(&scene, Resolution::PatchSize(size));
     let ctx = context();
-    let options = gpu_radiosity::cli::bench::bench_options(0.01);
+    let options = gpu_radiosity::solver::SolveOptions::paper_faithful(0.01);
     let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
     let mut cpu = CpuSolver::new(&scene, &layout, options, 0).unwrap();
     let light = gpu.next_polygon().unwrap();
@@ -116,7 +116,7 @@ fn the_simple_room_solved_on_both() {
     let scene = load("simple");
     let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
     let ctx = context();
-    let options = gpu_radiosity::cli::bench::bench_options(0.01);
+    let options = gpu_radiosity::solver::SolveOptions::paper_faithful(0.01);
     let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
     gpu.solve(|_| {}).unwrap();
     let mut cpu = CpuSolver::new(&scene, &layout, options, 0).unwrap();

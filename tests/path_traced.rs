@@ -214,7 +214,7 @@ fn regions_against_the_reference(
 /// cells then share passes too) keep every region within 3 % too.
 #[test]
 fn the_speed_options_keep_the_cornell_box_within_3_percent() {
-    let fast = gpu_radiosity::cli::bench::fast_options(1e-3);
+    let fast = gpu_radiosity::solver::SolveOptions::whole_polygons(1e-3);
     let options = SolveOptions {
         overshoot: true,
         small_hemi_res: fast.small_hemi_res,

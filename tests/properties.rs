@@ -862,21 +862,27 @@ fn polygon_far_from_the_origin_regression() {
     assert!((polygon.area - 1.0).abs() < 1e-2, "area {}", polygon.area);
 }
 
-/// An MTL colour with fewer than three values (`Kd 0.5 0.5`) panics inside tobj 4.0.5
+/// An MTL colour with fewer than three values (`Kd 0.5 0.5`) panicked inside tobj 4.0.5
 /// (`parse_float3` unwraps `try_into()` of the values it found: tobj-4.0.5/src/lib.rs:783,
 /// "called `Result::unwrap()` on an `Err` value: [0.5, 0.5]"). Found by the fuzzer
-/// (fuzz/corpus/scene_to_atlas/regress-tobj-short-colour); `load_obj` now checks the MTL's colour
-/// lines first (`check_mtl`) and names the line.
+/// (fuzz/corpus/scene_to_atlas/regress-tobj-short-colour). The loader now reads MTL files
+/// itself: a short `Kd` or `Ke` (which the solver uses) is an error naming the line; a short
+/// `Ka` or `Ks` (which it does not use) is skipped like any value of theirs (issue 35).
 #[test]
 fn load_obj_short_mtl_colour_is_an_error() {
-    for line in ["Kd 0.5 0.5", "Ke 1", "Ka", "Ks 0 0"] {
-        let obj = "mtllib m.mtl\nusemtl lamp\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let obj = "mtllib m.mtl\nusemtl lamp\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    for line in ["Kd 0.5 0.5", "Ke 1"] {
         let mtl = format!("newmtl lamp\nKe 1 1 1\n{line}\n");
         let result = std::panic::catch_unwind(|| load_text(obj, &mtl).1.map(|s| s.polygons.len()));
         let result =
             result.unwrap_or_else(|_| panic!("load_obj panicked on the MTL line `{line}`"));
         let e = result.expect_err("a short colour is an error");
         assert!(e.to_string().contains("m.mtl:3"), "{e}");
+    }
+    for line in ["Ka", "Ks 0 0"] {
+        let mtl = format!("newmtl lamp\nKe 1 1 1\n{line}\n");
+        let scene = load_text(obj, &mtl).1;
+        assert!(scene.is_ok(), "`{line}` is skipped: {:?}", scene.err());
     }
 }
 

@@ -7,14 +7,16 @@
 mod common;
 
 use common::*;
-use gpu_radiosity::cli::bench::{bench_options, configurations, room};
+use gpu_radiosity::cli::bench::room;
 use gpu_radiosity::solver::GpuSolver;
+use gpu_radiosity::solver::{configurations, SolveOptions};
 use gpu_radiosity::validate::guard;
 
 #[test]
 fn no_speed_option_moves_the_simple_room_away_from_the_exhaustive_solution() {
     let (scene, layout) = room("simple").unwrap();
-    let (reference, shots) = guard::reference(&scene, &layout, &bench_options(0.01), 0).unwrap();
+    let (reference, shots) =
+        guard::reference(&scene, &layout, &SolveOptions::paper_faithful(0.01), 0).unwrap();
     println!("reference: {shots} shots");
     let ctx = context();
     let mut differences = Vec::new();

@@ -39,7 +39,7 @@ fn atlases_come_back_in_the_callers_layout() {
         &ctx,
         &scene,
         &layout,
-        gpu_radiosity::cli::bench::bench_options(0.01),
+        gpu_radiosity::solver::SolveOptions::paper_faithful(0.01),
     )
     .unwrap();
     solver.step().unwrap().unwrap();
@@ -124,7 +124,7 @@ fn marking_after_some_shots_only_gives_the_same_lightmaps() {
     let scene = load("simple");
     let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
     let ctx = context();
-    let fast = gpu_radiosity::cli::bench::fast_options(0.01);
+    let fast = gpu_radiosity::solver::SolveOptions::whole_polygons(0.01);
     let solver = |tweak: fn(&mut Tuning)| {
         let mut options = fast.clone();
         tweak(&mut options.tuning);
@@ -223,7 +223,7 @@ fn programs_with_choices_compiled_in_refuse_other_choices() {
     let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()))
         .without_gutters();
     let ctx = context();
-    let options = gpu_radiosity::cli::bench::bench_options(0.01);
+    let options = gpu_radiosity::solver::SolveOptions::paper_faithful(0.01);
     let solver = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
     let shooters = solver.shooters_of(solver.next_polygon().unwrap());
     let visibility = &solver.backend().visibility;
@@ -348,7 +348,7 @@ fn leaving_out_polygons_between_pixel_centres_changes_no_pixel() {
     let scene = load("simple");
     let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
     let ctx = context();
-    let fast = gpu_radiosity::cli::bench::fast_options(0.01);
+    let fast = gpu_radiosity::solver::SolveOptions::whole_polygons(0.01);
     let fast_slots = fast.shooters_per_pass as usize;
     let mut whole_options = fast.clone();
     off(&mut whole_options.tuning);
@@ -448,7 +448,10 @@ fn on_both_rooms_from(
 ) {
     for (name, options) in [
         ("cornell", gpu_radiosity::solver::SolveOptions::default()),
-        ("simple", gpu_radiosity::cli::bench::bench_options(0.01)),
+        (
+            "simple",
+            gpu_radiosity::solver::SolveOptions::paper_faithful(0.01),
+        ),
     ] {
         let scene = load(name);
         let resolution = scene

@@ -124,6 +124,16 @@ fn solve_refuses_values_out_of_range_with_the_range() {
             2,
             &["--dump-passes", "1..=1000000"],
         ),
+        (
+            s(&["--smooth-angle", "90"]),
+            2,
+            &["--smooth-angle", "0 ≤ DEG < 90"],
+        ),
+        (
+            s(&["--smooth-angle", "nan"]),
+            2,
+            &["--smooth-angle", "0 ≤ DEG < 90"],
+        ),
         (s(&["--size", "0x10"]), 2, &["--size", "1x1"]),
         (s(&["--size", "20000x10"]), 2, &["--size", "16384x16384"]),
         (s(&["--eye", "1,2,nan"]), 2, &["--eye", "finite"]),
@@ -269,6 +279,11 @@ fn bench_and_view_flags_are_checked_while_parsing() {
             ),
             (&["view", "--size", "0x0"], 2, &["--size"]),
             (
+                &["view", "--smooth-angle", "-1"],
+                2,
+                &["--smooth-angle", "0 ≤ DEG < 90"],
+            ),
+            (
                 &[
                     "view",
                     "--screenshot",
@@ -373,6 +388,8 @@ fn the_ends_of_the_ranges_work() {
             "16",
             "--up",
             "0.01,1,0",
+            "--smooth-angle",
+            "89.99",
         ],
         dir.path(),
     );

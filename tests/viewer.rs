@@ -1,5 +1,6 @@
 //! The teaching pictures: `radiosity view --screenshot` under Xvfb (the lit scene and the panel,
-//! the scene matching the headless render of the same shots), and the pass pictures of
+//! the scene matching the headless render of the same shots; at 1280×720 every control of the
+//! panel in view or reachable by scrolling), and the pass pictures of
 //! `radiosity solve --dump-passes` (the item buffer's IDs where the geometry puts them).
 //!
 //! The viewer tests need `xvfb-run` (Debian: `apt-get install xvfb xauth`; `.ci/run` installs
@@ -69,6 +70,63 @@ fn differences(window: &image::RgbImage, headless: &image::RgbImage) -> Vec<u8> 
         }
     }
     d
+}
+
+/// The panel's controls as `radiosity view --screenshot` reports them from the panel's layout
+/// of its last frame: the points in view and in all, and the names in view, reachable by
+/// scrolling, and out of reach.
+struct PanelReach {
+    view_points: f64,
+    content_points: f64,
+    in_view: Vec<String>,
+    by_scrolling: Vec<String>,
+    out_of_reach: Vec<String>,
+}
+
+fn panel_reach(stderr: &str) -> PanelReach {
+    // panel (716 of 938 points in view): in view: A, B; by scrolling: C; out of reach: none
+    let line = stderr
+        .lines()
+        .find(|l| l.starts_with("panel ("))
+        .unwrap_or_else(|| panic!("no panel line in:\n{stderr}"));
+    let list = |key: &str| {
+        let start = line.find(key).unwrap_or_else(|| panic!("{key} in {line}")) + key.len();
+        let rest = &line[start..];
+        match rest[..rest.find(';').unwrap_or(rest.len())].trim() {
+            "none" => vec![],
+            names => names.split(", ").map(String::from).collect(),
+        }
+    };
+    let points: Vec<f64> = line["panel (".len()..line.find(" points").unwrap()]
+        .split(" of ")
+        .map(|n| n.parse().unwrap_or_else(|e| panic!("{n} in {line}: {e}")))
+        .collect();
+    PanelReach {
+        view_points: points[0],
+        content_points: points[1],
+        in_view: list("in view:"),
+        by_scrolling: list("by scrolling:"),
+        out_of_reach: list("out of reach:"),
+    }
+}
+
+/// The panel's scroll bar in the window's rightmost columns: egui's solid bar, its handle (grey
+/// 60) from the top over its track (grey 10) down to the bottom. Returns the handle's share of
+/// the bar's length, or `None` if no column holds such a bar.
+fn scroll_bar_handle(window: &image::RgbImage) -> Option<f64> {
+    let (width, h) = window.dimensions();
+    let grey = |x: u32, y: u32, lo: u8, hi: u8| {
+        let p = window.get_pixel(x, y).0;
+        p[0] == p[1] && p[1] == p[2] && (lo..=hi).contains(&p[0])
+    };
+    (width - 24..width).find_map(|x| {
+        // The bar's ends are rounded and inset by a few pixels.
+        let top = (0..8).find(|&y| grey(x, y, 50, 70))?;
+        let handle = (top..h).take_while(|&y| grey(x, y, 50, 70)).count() as u32;
+        let track = (top + handle..h).take_while(|&y| grey(x, y, 0, 16)).count() as u32;
+        let length = handle + track;
+        (handle > 20 && track > 20 && top + length + 8 >= h).then(|| handle as f64 / length as f64)
+    })
 }
 
 #[test]
@@ -163,6 +221,70 @@ fn viewer_screenshot_shows_the_panel_and_the_same_scene_as_the_headless_render()
     assert!(
         worst <= 1 && mean < 0.05,
         "scene region differs from the headless render: worst {worst}, mean {mean:.4}"
+    );
+}
+
+/// A laptop's window, 1280×720: the scene 950×720 and the 330-pixel panel, which is taller than
+/// the window. Every control of the panel is in view or reachable by scrolling (the panel's own
+/// layout of the frame saved), the overlays' switches among them, and the scroll bar is drawn,
+/// its handle as long as the share of the panel in view. (The comparison with the headless
+/// render stays at 400×400 above: at 720 pixels high, a few dozen pixels on the blocks' edges
+/// go to another polygon in the window than in the headless render.)
+#[test]
+fn viewer_at_1280_by_720_has_every_panel_control_in_view_or_reachable_by_scrolling() {
+    let dir = tempfile::tempdir().unwrap();
+    let shot = dir.path().join("window.png");
+    let out = view(&[
+        "--screenshot",
+        shot.to_str().unwrap(),
+        "--after-shots",
+        "2",
+        "--size",
+        "950x720",
+        "--overlays",
+        "shooter,atlas",
+    ]);
+    let window = load_rgb(&shot);
+    assert_eq!(window.dimensions(), (1280, 720));
+
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let panel = panel_reach(&stderr);
+    assert!(panel.out_of_reach.is_empty(), "{stderr}");
+    assert!(
+        panel.content_points > panel.view_points && !panel.by_scrolling.is_empty(),
+        "the panel fits at 720 pixels, so this tests no scrolling: {stderr}"
+    );
+    let reachable = [&panel.in_view[..], &panel.by_scrolling[..]].concat();
+    assert_eq!(reachable.len(), 20, "the panel's controls: {reachable:?}");
+    // By name: the run buttons, the overlays (the teaching view of each pass), the settings.
+    for name in [
+        "Run/Pause",
+        "Step one shot",
+        "Reset",
+        "Camera",
+        "overlays (keys 1-5)",
+        "shooter",
+        "item-buffer",
+        "heat-map",
+        "atlas",
+        "borders",
+        "settings",
+        "shots per frame",
+        "threshold",
+        "exposure",
+        "paper",
+        "accurate",
+        "patch size",
+    ] {
+        assert!(reachable.iter().any(|n| n == name), "{name}: {stderr}");
+    }
+
+    let share = panel.view_points / panel.content_points;
+    let handle = scroll_bar_handle(&window).expect("no scroll bar at the panel's right edge");
+    eprintln!("panel: {share:.3} in view; scroll bar handle {handle:.3} of the bar");
+    assert!(
+        (handle - share).abs() < 0.03,
+        "handle {handle:.3} of the bar, {share:.3} of the panel in view"
     );
 }
 

@@ -6,7 +6,7 @@ use crate::display::output_set::OutputSet;
 use crate::gl::{BackendChoice, GlContext, GlInfo};
 use crate::pipeline::{self, SettingsError, Stats, Target};
 pub use crate::pipeline::{Mode, SolverKind};
-use crate::scene::{Camera, Scene};
+use crate::scene::{Camera, Emission, LoadOptions, Scene, SceneError};
 use crate::solver::{
     FormFactorKind, GpuSolver, ShotRecord, SolveError, SolveOptions, VisibilityKind,
 };
@@ -35,14 +35,10 @@ pub struct SolveArgs {
     /// same for any count.
     #[arg(long, default_value_t = 0, value_parser = values::threads, allow_hyphen_values = true)]
     pub threads: usize,
-    /// Stop when unshot power / emitted power ≤ this (0 < F < 1).
-    #[arg(
-        long,
-        default_value_t = 0.01,
-        value_parser = values::threshold,
-        allow_hyphen_values = true,
-    )]
-    pub threshold: f32,
+    /// Stop when unshot power / emitted power ≤ this (0 < F < 1). Mode default: paper 0.01,
+    /// accurate 0.003.
+    #[arg(long, value_parser = values::threshold, allow_hyphen_values = true)]
+    pub threshold: Option<f32>,
     /// Stop after this many shots at most (0 to 1,000,000; 0: the emitters alone).
     #[arg(
         long,
@@ -99,33 +95,45 @@ pub struct SolveArgs {
     pub visibility: Option<VisibilityKind>,
     /// Beyond the paper, for fewer shots: each shooter also shoots the ambient light it will
     /// still receive, leaving that much negative unshot energy (Feda & Purgathofer 1992).
-    #[arg(long)]
-    pub overshoot: bool,
+    /// `--overshoot` or `--overshoot true|false`. Mode default: paper off, accurate on.
+    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
+    pub overshoot: Option<bool>,
     /// Beyond the paper, for cheaper shots: draw the item buffer at this resolution (16 to
-    /// --hemi-res) for shots that carry less than --small-shot of the emitted power.
-    #[arg(long, value_parser = values::hemi_res(), allow_hyphen_values = true)]
+    /// --hemi-res; 0: off) for shots that carry less than --small-shot of the emitted power.
+    /// Mode default: paper 0, accurate 128.
+    #[arg(long, value_parser = values::hemi_res_or_off, allow_hyphen_values = true)]
     pub small_hemi_res: Option<u32>,
-    /// See --small-hemi-res: a share of the emitted power (0 ≤ F < 1).
-    #[arg(
-        long,
-        default_value_t = DEFAULT_SMALL_SHOT,
-        value_parser = values::share,
-        allow_hyphen_values = true,
-    )]
-    pub small_shot: f32,
+    /// See --small-hemi-res: a share of the emitted power (0 ≤ F < 1). Default 0.01.
+    #[arg(long, value_parser = values::share, allow_hyphen_values = true)]
+    pub small_shot: Option<f32>,
     /// Beyond the paper, for cheaper shots (needs --small-hemi-res): below --small-shot the
     /// item buffer's side falls with the cube root of the shot's share of the emitted power,
-    /// down to N (16 to --small-hemi-res).
-    #[arg(long, value_parser = values::hemi_res(), allow_hyphen_values = true)]
+    /// down to N (16 to --small-hemi-res; 0: off). Mode default: paper 0, accurate 16.
+    #[arg(long, value_parser = values::hemi_res_or_off, allow_hyphen_values = true)]
     pub min_hemi_res: Option<u32>,
     /// Beyond the paper, for accuracy: turn each shot's item buffer about the shooter's normal
-    /// by its own angle, so that the aliasing of successive shots averages out.
-    #[arg(long)]
-    pub rotate_item_buffer: bool,
+    /// by its own angle, so that the aliasing of successive shots averages out. Mode default:
+    /// paper off, accurate on.
+    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
+    pub rotate_item_buffer: Option<bool>,
     /// Beyond the paper, for cheaper shots: each step shoots the K polygons with the most unshot
-    /// power (1 to 4), each with its own item buffer, through one reconstruction pass.
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=crate::solver::MAX_SHOOTERS_PER_PASS as i64))]
-    pub shooters_per_pass: u32,
+    /// power (1 to 8), each with its own item buffer, through one reconstruction pass. Mode
+    /// default: paper 1, accurate 8 (1 with --dump-passes).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=crate::solver::MAX_SHOOTERS_PER_PASS as i64))]
+    pub shooters_per_pass: Option<u32>,
+    /// Beyond the paper, so that no shot creates energy: a shot whose receivers got more than
+    /// it carried is scaled back to what it carried. Mode default: paper off, accurate on.
+    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
+    pub conserve: Option<bool>,
+    /// Beyond the paper, for fewer passes: only shots carrying at least this share of the
+    /// emitted power cut their cells where a touching polygon's plane crosses them (0 ≤ F < 1;
+    /// 0: every shot). Mode default: paper 0, accurate 0.003.
+    #[arg(long, value_parser = values::share, allow_hyphen_values = true)]
+    pub cut_above: Option<f32>,
+    /// Make the material NAME emit light: emitted radiance R,G,B, as `Ke` in the MTL file (each 0
+    /// to 1e15; 0,0,0 turns an emitter off). Repeatable.
+    #[arg(long, value_name = "NAME=R,G,B", value_parser = values::emission, allow_hyphen_values = true)]
+    pub emit: Vec<Emission>,
     /// Camera position, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<Vec3>,
@@ -143,6 +151,16 @@ pub struct SolveArgs {
     /// lightmap.exr stays the solver's answer).
     #[arg(long)]
     pub ambient: bool,
+    /// Beyond the paper, for the images: faces of one material meeting at less than this angle
+    /// (degrees, 0 to under 90; 0: off) are shaded smooth across their shared edges, so that
+    /// tessellated spheres and columns look round (lightmap.exr stays the solver's answer).
+    #[arg(
+        long,
+        default_value_t = crate::display::smooth::DEFAULT_ANGLE,
+        value_parser = values::smooth_angle,
+        allow_hyphen_values = true,
+    )]
+    pub smooth_angle: f32,
     /// Multiplier applied to radiance before tone mapping image.png (finite, > 0).
     #[arg(long, default_value_t = 1.0, value_parser = values::positive, allow_hyphen_values = true)]
     pub exposure: f32,
@@ -165,8 +183,14 @@ impl SolveArgs {
     /// The solver settings: the mode's, with single settings overridden.
     pub fn options(&self) -> SolveOptions {
         let base = self.mode.options();
+        // One shooter per pass when picturing the passes, unless asked for more (refused).
+        let shooters_per_pass = match self.shooters_per_pass {
+            Some(k) => k,
+            None if !self.dump_passes.is_empty() => 1,
+            None => base.shooters_per_pass,
+        };
         SolveOptions {
-            threshold: self.threshold,
+            threshold: self.threshold.unwrap_or(base.threshold),
             max_shots: self.max_shots,
             hemi_res: self.hemi_res.unwrap_or(base.hemi_res),
             tessellation: self.tessellate.unwrap_or(base.tessellation),
@@ -176,18 +200,22 @@ impl SolveArgs {
             visibility: self.visibility.unwrap_or(base.visibility),
             robust_visibility: base.robust_visibility,
             tuning: base.tuning,
-            overshoot: self.overshoot,
-            small_hemi_res: self.small_hemi_res.unwrap_or(0),
-            small_shot: self.small_shot,
-            min_hemi_res: self.min_hemi_res.unwrap_or(0),
-            rotate_item_buffer: self.rotate_item_buffer,
-            shooters_per_pass: self.shooters_per_pass,
+            overshoot: self.overshoot.unwrap_or(base.overshoot),
+            small_hemi_res: self.small_hemi_res.unwrap_or(base.small_hemi_res),
+            small_shot: self.small_shot.unwrap_or(crate::solver::SMALL_SHOT),
+            min_hemi_res: self.min_hemi_res.unwrap_or(base.min_hemi_res),
+            rotate_item_buffer: self.rotate_item_buffer.unwrap_or(base.rotate_item_buffer),
+            shooters_per_pass,
+            conserve: self.conserve.unwrap_or(base.conserve),
+            cut_above: self.cut_above.unwrap_or(base.cut_above),
         }
     }
-}
 
-/// `--small-shot`'s default: the fast configuration's (`bench::fast_options`).
-pub const DEFAULT_SMALL_SHOT: f32 = crate::solver::SMALL_SHOT;
+    /// The stopping rule's threshold in use.
+    pub fn threshold(&self) -> f32 {
+        self.threshold.unwrap_or(self.mode.options().threshold)
+    }
+}
 
 fn rayon_threads(requested: usize) -> usize {
     if requested > 0 {
@@ -255,10 +283,12 @@ pub struct SolveOutcome {
 pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     // First: a signal from here on removes what this run staged and exits 1.
     display::output_set::exit_on_signals()?;
-    check_solve_settings(args.threshold, args.patch_size, args.patches)?;
-    let (scene, scene_path) = pipeline::load_scene(args.scene.as_deref())?;
+    check_solve_settings(args.threshold(), args.patch_size, args.patches)?;
+    let (scene, scene_path) = load_scene(args.scene.as_deref(), &args.emit)?;
     let scene_name = scene_path.display().to_string();
-    check_camera(args, &scene)?;
+    // Without a `# camera` line, chosen by casting rays into the scene: once.
+    let camera = camera_from(args, scene.camera_or_default());
+    check_camera(args, &scene, &camera)?;
     let out_dir = args
         .out
         .clone()
@@ -268,7 +298,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     if args.solver == SolverKind::Cpu && !args.dump_passes.is_empty() {
         bail!("--dump-passes pictures the GPU passes: use it with --solver gpu");
     }
-    if args.shooters_per_pass > 1 && !args.dump_passes.is_empty() {
+    if args.options().shooters_per_pass > 1 && !args.dump_passes.is_empty() {
         bail!(
             "--dump-passes pictures one shooter's passes per shot: use it with \
              --shooters-per-pass 1"
@@ -319,9 +349,9 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         };
         anyhow::anyhow!("{e} (set with {flags})")
     })?;
-    let bar = progress_bar(args.threshold);
+    let bar = progress_bar(args.threshold());
     let progress = |r: &ShotRecord| {
-        bar.set_position(progress_position(r.unshot_fraction, args.threshold));
+        bar.set_position(progress_position(r.unshot_fraction, args.threshold()));
         bar.set_message(format!("shot {} unshot {:.4}", r.shot, r.unshot_fraction));
     };
     let solution = if args.dump_passes.is_empty() {
@@ -369,12 +399,22 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         solution.solve_seconds()
     );
 
-    let camera = camera_from(args, scene.camera_or_default());
     let (atlas, ambient) = solution.display_atlas(&scene, &layout, args.ambient);
     if let Some(l) = ambient {
         eprintln!("ambient term: {:.5} {:.5} {:.5}", l.x, l.y, l.z);
     }
-    let image = pipeline::render(&ctx, &scene, &layout, &atlas, &camera, args.size)?;
+    let smoothing = display::Smoothing::new(&scene, &layout, args.smooth_angle);
+    if smoothing.smoothed_polygons() > 0 {
+        eprintln!(
+            "smooth shading: {} polygons of curved surfaces (faces of one material meeting at \
+             less than {}°, --smooth-angle)",
+            smoothing.smoothed_polygons(),
+            smoothing.angle()
+        );
+    }
+    let image = pipeline::render_smoothed(
+        &ctx, &scene, &layout, &atlas, &smoothing, &camera, args.size,
+    )?;
     let run = pipeline::Run {
         scene_name,
         scene: &scene,
@@ -382,18 +422,32 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         solver: args.solver,
         mode: args.mode,
         options,
+        emit: &args.emit,
         gl: info,
         threads: (args.solver == SolverKind::Cpu).then(|| rayon_threads(args.threads)),
+        smoothing: &smoothing,
     };
     let stats = Stats::new(run, &solution, ambient);
     pipeline::write_outputs(&set, &image, args.exposure, &layout, &solution, &stats)?;
     if args.plot {
         let title = format!("{} ({:?} mode)", scene.name, args.mode).to_lowercase();
-        display::plot::write_convergence(&set, &stats.history, args.threshold, &title)?;
+        display::plot::write_convergence(&set, &stats.history, args.threshold(), &title)?;
     }
     set.publish()?;
     eprintln!("wrote {}", out_dir.display());
     Ok(SolveOutcome { stats, out_dir })
+}
+
+/// The scene with the `--emit` overrides applied (`solve` and `view`); an override the scene
+/// cannot take names the flag.
+pub(crate) fn load_scene(path: Option<&Path>, emit: &[Emission]) -> Result<(Scene, PathBuf)> {
+    let options = LoadOptions {
+        emit: emit.to_vec(),
+    };
+    pipeline::load_scene_with(path, &options).map_err(|e| match e {
+        SceneError::Emit { .. } => anyhow::anyhow!("{e} (set with --emit)"),
+        e => e.into(),
+    })
 }
 
 /// A solver error with the command-line flags that set what it speaks of.
@@ -419,8 +473,8 @@ pub(crate) fn with_flags(e: SolveError) -> anyhow::Error {
 /// Check the camera the picture will be taken with (the flags' values over the scene's camera)
 /// before solving. A usage error when flags set part of it; the scene's own camera line was
 /// checked when the scene loaded.
-fn check_camera(args: &SolveArgs, scene: &Scene) -> Result<()> {
-    let Err(e) = camera_from(args, scene.camera_or_default()).validate() else {
+fn check_camera(args: &SolveArgs, scene: &Scene, camera: &Camera) -> Result<()> {
+    let Err(e) = camera.validate() else {
         return Ok(());
     };
     let given: Vec<&str> = [
@@ -435,7 +489,7 @@ fn check_camera(args: &SolveArgs, scene: &Scene) -> Result<()> {
     let rest = if scene.camera.is_some() {
         "the scene's `# camera` line"
     } else {
-        "the default view of the scene's bounds"
+        "the default view of the scene"
     };
     if given.is_empty() {
         bail!("the camera from {rest}: {e}");

@@ -2,7 +2,8 @@
 //! clap's usage error (exit status 2) and the range in the message, before anything is solved.
 //! The ranges are listed in docs/usage.md.
 
-use crate::scene::FOV_RANGE;
+use crate::display::smooth::MAX_ANGLE;
+use crate::scene::{Emission, FOV_RANGE, MAX_KE};
 
 /// Most shots a solve may ask for: the bench's own cap; more only spins on a solve that has
 /// stopped converging.
@@ -19,6 +20,21 @@ pub const MAX_HEMI_RES: u32 = 4096;
 pub fn hemi_res() -> clap::builder::RangedI64ValueParser<u32> {
     clap::value_parser!(u32).range(MIN_HEMI_RES as i64..=MAX_HEMI_RES as i64)
 }
+/// An item-buffer resolution that may be off: 0, or as [`hemi_res`].
+pub fn hemi_res_or_off(s: &str) -> Result<u32, String> {
+    let v: i64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a whole number"))?;
+    if v == 0 || (MIN_HEMI_RES as i64..=MAX_HEMI_RES as i64).contains(&v) {
+        Ok(v as u32)
+    } else {
+        Err(format!(
+            "{s} is neither 0 (off) nor in {MIN_HEMI_RES}..={MAX_HEMI_RES}"
+        ))
+    }
+}
+
 /// Shooter and emitter cells, in patches: 16384 is the widest atlas, so a larger cell is the
 /// whole polygon anyway.
 pub const MAX_CELL: u32 = 16_384;
@@ -78,6 +94,19 @@ pub fn fov(s: &str) -> Result<f32, String> {
     }
 }
 
+/// The smooth shading's crease angle, degrees: 0 (off) up to [`MAX_ANGLE`] (excluded).
+pub fn smooth_angle(s: &str) -> Result<f32, String> {
+    let v = number(s)?;
+    if (0.0..MAX_ANGLE).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{s} is outside 0 ≤ DEG < {MAX_ANGLE} degrees (0: no smoothing; at {MAX_ANGLE} a box's \
+             corners would be averaged)"
+        ))
+    }
+}
+
 /// Tessellation: 0 (off), or at least [`MIN_TESSELLATION`] patch sizes.
 pub fn tessellation(s: &str) -> Result<f32, String> {
     let v = number(s)?;
@@ -87,6 +116,31 @@ pub fn tessellation(s: &str) -> Result<f32, String> {
         Err(format!(
             "{s} must be 0 (off) or a finite number of patch sizes from {MIN_TESSELLATION} up"
         ))
+    }
+}
+
+/// `--emit NAME=R,G,B`: a material name (everything before the last `=`) and an emitted
+/// radiance of three numbers in [0, [`MAX_KE`]].
+pub fn emission(s: &str) -> Result<Emission, String> {
+    let usage = || format!("expected NAME=R,G,B (a material and its emitted radiance), got '{s}'");
+    let (name, rgb) = s.rsplit_once('=').ok_or_else(usage)?;
+    if name.is_empty() {
+        return Err(usage());
+    }
+    let v: Vec<f32> = rgb
+        .split(',')
+        .map(|t| t.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| usage())?;
+    match v[..] {
+        [r, g, b] if v.iter().all(|c| (0.0..=MAX_KE).contains(c)) => Ok(Emission {
+            material: name.to_string(),
+            ke: [r, g, b],
+        }),
+        [_, _, _] => Err(format!(
+            "the radiance in '{s}' must be three numbers from 0 to {MAX_KE:e}"
+        )),
+        _ => Err(usage()),
     }
 }
 
@@ -134,8 +188,38 @@ mod tests {
         for bad in ["1e-9", "-1", "nan", "inf"] {
             assert!(tessellation(bad).is_err(), "{bad}");
         }
+        assert!(smooth_angle("0").is_ok() && smooth_angle("89.9").is_ok());
+        for bad in ["90", "-1", "nan", "inf", "x"] {
+            assert!(smooth_angle(bad).is_err(), "{bad}");
+        }
         assert!(threads("0").is_ok() && threads(&max_threads().to_string()).is_ok());
         assert!(threads(&(max_threads() + 1).to_string()).is_err());
         assert!(threads("-1").is_err());
+        let e = emission("Light = 1=17,12,4").unwrap();
+        assert_eq!(
+            (e.material.as_str(), e.ke),
+            ("Light = 1", [17.0, 12.0, 4.0])
+        );
+        assert_eq!(emission("Glass=0,0,0").unwrap().ke, [0.0; 3]);
+        for bad in [
+            "Glass",
+            "=1,1,1",
+            "Glass=1,1",
+            "Glass=1,1,1,1",
+            "Glass=a,1,1",
+        ] {
+            assert!(emission(bad).unwrap_err().contains("NAME=R,G,B"), "{bad}");
+        }
+        for bad in [
+            "Glass=-1,1,1",
+            "Glass=nan,1,1",
+            "Glass=inf,1,1",
+            "Glass=1e16,1,1",
+        ] {
+            assert!(
+                emission(bad).unwrap_err().contains("from 0 to 1e15"),
+                "{bad}"
+            );
+        }
     }
 }

@@ -3,6 +3,7 @@
 use super::solve::{parse_size, Mode};
 use super::values;
 use crate::pipeline::DEFAULT_PATCHES;
+use crate::scene::Emission;
 use crate::viewer::{self, Overlay, ViewOptions};
 use anyhow::Result;
 use clap::value_parser;
@@ -35,12 +36,23 @@ pub struct ViewArgs {
     /// Patch side in scene units (> 0).
     #[arg(long, value_parser = values::positive, allow_hyphen_values = true)]
     pub patch_size: Option<f32>,
+    /// Make the material NAME emit light, as for `solve` (radiance R,G,B, as `Ke`). Repeatable.
+    #[arg(long, value_name = "NAME=R,G,B", value_parser = values::emission, allow_hyphen_values = true)]
+    pub emit: Vec<Emission>,
     /// Size of the scene view, WxH pixels (the panel is added on the right).
     #[arg(long, value_parser = parse_size, default_value = "720x720", allow_hyphen_values = true)]
     pub size: (u32, u32),
     /// Multiplier applied to radiance before tone mapping, as for `solve` (finite, > 0).
     #[arg(long, default_value_t = 1.0, value_parser = values::positive, allow_hyphen_values = true)]
     pub exposure: f32,
+    /// Crease angle of the smooth shading, degrees, as for `solve` (0 to under 90; 0: off).
+    #[arg(
+        long,
+        default_value_t = crate::display::smooth::DEFAULT_ANGLE,
+        value_parser = values::smooth_angle,
+        allow_hyphen_values = true,
+    )]
+    pub smooth_angle: f32,
     /// Most shots per frame while running, 1 to 64 (the window stays responsive).
     #[arg(
         long,
@@ -70,12 +82,14 @@ pub fn run_view(args: &ViewArgs) -> Result<()> {
     super::solve::check_solve_settings(args.threshold, args.patch_size, args.patches)?;
     viewer::run(ViewOptions {
         scene: args.scene.clone(),
+        emit: args.emit.clone(),
         mode: args.mode,
         threshold: args.threshold,
         patch_size: args.patch_size,
         patches: args.patches.unwrap_or(DEFAULT_PATCHES),
         size: args.size,
         exposure: args.exposure,
+        smooth_angle: args.smooth_angle,
         shots_per_frame: args.shots_per_frame,
         overlays: args.overlays.clone(),
         screenshot: args.screenshot.clone().zip(args.after_shots),

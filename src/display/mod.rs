@@ -1,15 +1,20 @@
 //! Display (paper 3.2.2, end of step 5): the whole scene drawn from a camera with the packed
-//! lightmap atlas, and the result written as images.
+//! lightmap atlas (curved surfaces shaded smooth, beyond the paper: `smooth.rs`), and the result
+//! written as images.
 
 pub mod ambient;
+pub mod mesh;
 pub mod output;
 pub mod output_set;
 pub mod passes;
 pub mod plot;
 mod render;
 pub mod scaling_plot;
+pub mod smooth;
 
+pub use mesh::DisplayMesh;
 pub use render::{render, scene_view_projection, DisplayPass, Image, Viewport};
+pub use smooth::Smoothing;
 
 use crate::scene::Camera;
 use glam::Mat4;

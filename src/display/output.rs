@@ -6,7 +6,7 @@
 //! never share one), synced, and renamed over the target. `solve`'s outputs are a set and go
 //! through [`super::output_set::OutputSet`] instead, which replaces them all together.
 //!
-//! Encoders write straight into the file through [`Recorder`], which keeps the first I/O error:
+//! Encoders write straight into the file through `Recorder`, which keeps the first I/O error:
 //! a full disk is then reported as "no space left", not as whatever the encoder makes of it.
 
 use super::Image;

@@ -148,6 +148,8 @@ mod tests {
                 unshot_fraction: 0.7f64.powi(k as i32),
                 shot_power: 1.0,
                 reflected_power: 0.5,
+                carried_power: 1.0,
+                received_power: 0.7,
             })
             .collect();
         let rgb = draw_convergence(&history, 0.01, "test").unwrap();

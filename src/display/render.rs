@@ -1,19 +1,21 @@
 //! The display pass: rasterise the scene from the camera, sampling the (dilated) radiance atlas
-//! bilinearly. `DisplayPass` is built once and run per frame (the viewer draws it into its
-//! window); `render` runs it once into a float framebuffer and reads the linear radiance image
-//! back (what `radiosity solve` writes).
+//! bilinearly and adding the smooth-shading corrections of the vertices (`smooth.rs`).
+//! `DisplayPass` is built once and run per frame (the viewer draws it into its window); `render`
+//! runs it once into a float framebuffer and reads the linear radiance image back (what
+//! `radiosity solve` writes).
 
+use super::mesh::{DisplayMesh, ATTRIBUTES};
+use super::smooth::{FADE_TEXELS, FULL_TEXELS};
 use crate::gl::program::Source;
-use crate::gl::{
-    Framebuffer, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
-};
+use crate::gl::{Framebuffer, GlContext, GlError, Program, Renderbuffer, Texture, TextureFormat};
 use crate::glsl;
 use crate::scene::{Camera, Scene};
-use crate::solver::mesh::ATTRIBUTES;
 use glam::Mat4;
 use glow::HasContext;
 
 pub const NAME: &str = "display";
+/// The texture unit of the smooth edges (`glsl/smooth.glsl`).
+const SMOOTH_EDGES_UNIT: u32 = 2;
 
 /// A linear RGB radiance image, row 0 at the top.
 pub struct Image {
@@ -74,7 +76,9 @@ impl DisplayPass {
     }
 
     /// The same pass with other shaders (the viewer's tone mapping and overlays). They get the
-    /// mesh's attributes, `ViewProjection`, `Lightmap` on unit 0 and write `Color`.
+    /// display mesh's attributes (`mesh::ATTRIBUTES`), `ViewProjection`, `Lightmap` on unit 0,
+    /// the mesh's smooth edges on unit 2 and `glsl/smooth.glsl`'s `smoothRadiance` (inserted
+    /// into the fragment shader), and write `Color`. Units 1 and 3 up are the caller's.
     pub fn with_shaders(
         ctx: &GlContext,
         atlas_size: (u32, u32),
@@ -82,6 +86,11 @@ impl DisplayPass {
         fragment: Source,
     ) -> Result<Self, GlError> {
         let gl = &ctx.gl;
+        let smooth = format!(
+            "#define SMOOTH_FULL {FULL_TEXELS:?}\n#define SMOOTH_FADE {FADE_TEXELS:?}\n{}",
+            glsl!("smooth.glsl").text
+        );
+        let fragment = fragment.insert(&smooth);
         let program = Program::new(gl, vertex, fragment, ATTRIBUTES, &[(0, "Color")])?;
         let lightmap = Texture::new(
             gl,
@@ -104,7 +113,7 @@ impl DisplayPass {
     pub fn run(
         &self,
         ctx: &GlContext,
-        mesh: &Mesh,
+        mesh: &DisplayMesh,
         view_projection: Mat4,
         framebuffer: Option<&Framebuffer>,
         viewport: Viewport,
@@ -147,10 +156,13 @@ impl DisplayPass {
         self.program.use_program();
         self.lightmap.bind(0);
         self.program.set_i32("Lightmap", 0);
+        mesh.edges().bind(SMOOTH_EDGES_UNIT);
+        self.program
+            .set_i32("SmoothEdges", SMOOTH_EDGES_UNIT as i32);
         self.program
             .set_mat4("ViewProjection", &view_projection.to_cols_array());
         uniforms(&self.program);
-        mesh.draw();
+        mesh.mesh().draw();
         unsafe {
             gl.disable(glow::DEPTH_TEST);
             gl.active_texture(glow::TEXTURE0);
@@ -159,12 +171,13 @@ impl DisplayPass {
     }
 }
 
-/// Draw `mesh` from `camera` with `atlas` (RGBA radiance, rows bottom to top, already dilated)
-/// into a `width` x `height` float image.
+/// Draw `mesh` from `camera` with `atlas` (RGBA radiance, rows bottom to top, already dilated;
+/// the mesh's corrections made for it with [`DisplayMesh::update`]) into a `width` x `height`
+/// float image.
 pub fn render(
     ctx: &GlContext,
     scene: &Scene,
-    mesh: &Mesh,
+    mesh: &DisplayMesh,
     atlas: &[f32],
     atlas_size: (u32, u32),
     camera: &Camera,

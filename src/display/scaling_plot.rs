@@ -2,16 +2,32 @@
 //! seconds against patches, log-log, one line per room and solver, the configuration in the
 //! caption; extrapolated points hollow. Drawn like `plot.rs`.
 
-use crate::cli::bench::scaling::Run;
 use anyhow::{anyhow, Result};
 use plotters::prelude::*;
 
+/// Width and height of the plot in pixels.
 pub const SIZE: (u32, u32) = (900, 600);
+
+/// One point of the plot: a room solved by one solver at one patch count. (The bench's runs
+/// carry more; it hands over only this, so the library does not depend on the command line.)
+#[derive(Clone, Debug, PartialEq)]
+pub struct Point {
+    /// The room; the lines join the points of one room and solver.
+    pub room: String,
+    /// The solver (`gpu`, `cpu`).
+    pub solver: String,
+    pub patches: u64,
+    /// Loop seconds to the stopping rule, measured or extrapolated.
+    pub loop_s: f64,
+    /// Measured to the stopping rule (a filled dot), or extrapolated from a run the time
+    /// budget stopped (a hollow one).
+    pub measured: bool,
+}
 
 /// The plot as RGB pixels, rows top to bottom, [`SIZE`]. `exponents`: (room, solver, slope);
 /// `configuration`: the configuration timed (`paper-faithful` or `fast`), named in the caption.
 pub fn draw(
-    runs: &[Run],
+    points: &[Point],
     exponents: &[(String, String, f64)],
     configuration: &str,
 ) -> Result<Vec<u8>> {
@@ -21,8 +37,8 @@ pub fn draw(
     {
         let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
         root.fill(&WHITE).map_err(|e| error(&e))?;
-        let xs = runs.iter().map(|r| r.patches as f64);
-        let ys = runs.iter().map(|r| r.loop_to_convergence_s.max(1e-3));
+        let xs = points.iter().map(|p| p.patches as f64);
+        let ys = points.iter().map(|p| p.loop_s.max(1e-3));
         let (x0, x1) = xs.fold((f64::MAX, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
         let (y0, y1) = ys.fold((f64::MAX, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
         let mut chart = ChartBuilder::on(&root)
@@ -62,10 +78,10 @@ pub fn draw(
         ];
         for (k, (room, solver, slope)) in exponents.iter().enumerate() {
             let colour = colours[k % colours.len()];
-            let points: Vec<(f64, f64, bool)> = runs
+            let points: Vec<(f64, f64, bool)> = points
                 .iter()
-                .filter(|r| &r.room == room && &r.solver == solver)
-                .map(|r| (r.patches as f64, r.loop_to_convergence_s, r.complete))
+                .filter(|p| &p.room == room && &p.solver == solver)
+                .map(|p| (p.patches as f64, p.loop_s, p.measured))
                 .collect();
             chart
                 .draw_series(LineSeries::new(

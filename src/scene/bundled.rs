@@ -3,8 +3,9 @@
 //! images, and the paper's two rooms of `bench table1`. They load through the same checks as
 //! files, under a path that says where they come from (`<built-in>/cornell/cornell.obj`).
 
-use super::obj::{parse_obj, SceneError};
-use super::Scene;
+use super::files::MaterialFiles;
+use super::load::parse_scene;
+use super::{LoadOptions, Scene, SceneError};
 use std::path::{Path, PathBuf};
 
 /// A scene's OBJ and MTL texts, as committed in scenes/NAME/NAME.obj and NAME.mtl.
@@ -66,26 +67,46 @@ impl BundledScene {
     }
 
     pub fn load(&self) -> Result<Scene, SceneError> {
-        let path = self.path();
-        let mtl = path.with_extension("mtl");
-        parse_obj(&path, self.obj, |file| {
-            if file == mtl {
-                Ok(self.mtl.as_bytes().to_vec())
-            } else {
-                Err(std::io::Error::new(
-                    std::io::ErrorKind::NotFound,
-                    "not among the built-in files",
-                ))
-            }
-        })
+        self.load_with(&LoadOptions::default())
+    }
+
+    /// [`BundledScene::load`] with `options` applied (emission overrides).
+    pub fn load_with(&self, options: &LoadOptions) -> Result<Scene, SceneError> {
+        parse_scene(&self.path(), self.obj, self, options)
     }
 }
 
-/// `path`'s scene, or the built-in Cornell box without one; with the path that names it.
-pub fn load_or_default(path: Option<&Path>) -> Result<(Scene, PathBuf), SceneError> {
+/// A bundled scene's one library: its MTL text, under the path its `mtllib` line gives.
+impl MaterialFiles for BundledScene {
+    fn read(&self, file: &Path) -> std::io::Result<Vec<u8>> {
+        if file == self.path().with_extension("mtl") {
+            Ok(self.mtl.as_bytes().to_vec())
+        } else {
+            Err(std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                "not among the built-in files",
+            ))
+        }
+    }
+
+    fn beside(&self) -> Vec<PathBuf> {
+        vec![self.path().with_extension("mtl")]
+    }
+
+    fn built_in(&self) -> bool {
+        true
+    }
+}
+
+/// `path`'s scene, or the built-in Cornell box without one, with `options` applied; with the
+/// path that names it.
+pub fn load_or_default(
+    path: Option<&Path>,
+    options: &LoadOptions,
+) -> Result<(Scene, PathBuf), SceneError> {
     match path {
-        Some(p) => Ok((super::load_obj(p)?, p.to_path_buf())),
-        None => Ok((cornell().load()?, cornell().path())),
+        Some(p) => Ok((super::load_obj_with(p, options)?, p.to_path_buf())),
+        None => Ok((cornell().load_with(options)?, cornell().path())),
     }
 }
 

@@ -2,15 +2,29 @@
 //! Lambertian materials (`Kd` reflectance, `Ke` emitted radiance) and an optional camera.
 
 pub mod bundled;
+mod emission;
+mod error;
+mod files;
+mod framing;
+mod header;
+mod libraries;
+mod load;
+mod mtl;
 mod obj;
 mod overlap;
+mod statements;
 mod triangulate;
 
-pub use obj::{
-    allow_outside_materials, load_obj, shown, shown_path, SceneError, MAX_KE, MAX_MTL_BYTES,
-    MAX_OBJ_BYTES, MAX_SCENE_SIZE, MIN_SCENE_SIZE,
-};
+pub use emission::{Emission, EmissionError, LoadOptions};
+pub use error::{SceneError, MAX_SCENE_SIZE, MIN_SCENE_SIZE};
+pub use files::{allow_outside_materials, shown, shown_path, MAX_MTL_BYTES, MAX_OBJ_BYTES};
+pub use load::{load_obj, load_obj_with};
+pub use mtl::MAX_KE;
 pub use triangulate::triangulate;
+
+/// The material of faces that name none, or one no library defines: a neutral grey that does
+/// not emit.
+pub const DEFAULT_MATERIAL: &str = "(default)";
 
 use crate::geometry::{bounds, mean, sphere_around, Plane};
 use glam::Vec3;
@@ -264,19 +278,10 @@ impl Scene {
         1e-5 * self.size()
     }
 
-    /// The scene's own camera, or a view of its bounding box from the -z side.
+    /// The scene's own camera (its `# camera` line), or one that shows it: from inside a closed
+    /// room, from outside an open scene (see `framing.rs`).
     pub fn camera_or_default(&self) -> Camera {
-        self.camera.unwrap_or_else(|| {
-            let (lo, hi) = self.bounds();
-            let centre = 0.5 * (lo + hi);
-            let size = (hi - lo).length();
-            Camera {
-                eye: centre - Vec3::Z * 1.5 * size,
-                target: centre,
-                up: Vec3::Y,
-                fov_y: 40.0,
-            }
-        })
+        self.camera.unwrap_or_else(|| framing::default_camera(self))
     }
 }
 

@@ -70,32 +70,7 @@ impl<'a> GpuBackend<'a> {
                 suggest: crate::patches::three_digits_up(layout.patch_size * scale),
             });
         }
-        // The hemicube's item buffer is five faces wide.
-        let faces = super::visibility::item_buffer_size(options.visibility, 1).0 as i32;
-        if options.hemi_res < 16 || options.hemi_res as i64 > (max / faces) as i64 {
-            return Err(SolveError::HemiRes {
-                res: options.hemi_res,
-                max: max / faces,
-            });
-        }
-        let small = options.small_hemi_res;
-        if small != 0 && !(16..=options.hemi_res).contains(&small) {
-            return Err(SolveError::SmallHemiRes {
-                small,
-                full: options.hemi_res,
-            });
-        }
-        let min = options.min_hemi_res;
-        if min != 0 && (small == 0 || !(16..=small).contains(&min)) {
-            return Err(SolveError::MinHemiRes { min, small });
-        }
-        let k = options.shooters_per_pass;
-        if !(1..=super::MAX_SHOOTERS_PER_PASS).contains(&k) {
-            return Err(SolveError::ShootersPerPass(k));
-        }
-        if !(options.tessellation >= 0.0 && options.tessellation.is_finite()) {
-            return Err(SolveError::Tessellation(options.tessellation));
-        }
+        options.check(Some(max))?;
         let gl = &ctx.gl;
         let mesh = mesh::upload(gl, &mesh::vertex_data(scene, layout))?;
         let n = scene.polygons.len();

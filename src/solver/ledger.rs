@@ -52,6 +52,7 @@ pub struct Ledger {
     emitted_power: f64,
     shots: u32,
     passes: u32,
+    corrections: u32,
     started: Instant,
     history: Vec<ShotRecord>,
     /// Seconds per named pass.
@@ -82,6 +83,7 @@ impl Ledger {
             emitted_power,
             shots: 0,
             passes: 0,
+            corrections: 0,
             started: Instant::now(),
             history: Vec::new(),
             times: PassTimes::default(),
@@ -131,8 +133,19 @@ impl Ledger {
         self.passes += 1;
     }
 
+    /// Count a shot scaled back to what it carried (`SolveOptions::conserve`).
+    pub fn count_correction(&mut self) {
+        self.corrections += 1;
+    }
+
+    /// Shots scaled back to what they carried so far.
+    pub fn corrections(&self) -> u32 {
+        self.corrections
+    }
+
     /// Close a shot of `polygons` polygons (the first of them `polygon`; one in the paper) that
-    /// shot `shot_power`, the unshot power having been `before` when it started; the record is
+    /// shot `shot_power` (`balance`: what it carried and what reached the receivers), the unshot power
+    /// having been `before` when it started; the record is
     /// kept in the history and returned. Every polygon counts as a shot.
     pub fn record_shot(
         &mut self,
@@ -140,6 +153,7 @@ impl Ledger {
         polygons: u32,
         before: f64,
         shot_power: f64,
+        balance: &super::balance::ShotBalance,
     ) -> ShotRecord {
         self.shots += polygons.max(1);
         let record = ShotRecord {
@@ -150,6 +164,8 @@ impl Ledger {
             shot_power,
             // What the receivers gained: the new total, less what was left unshot.
             reflected_power: self.unshot_power() - (before - shot_power),
+            carried_power: balance.carried_power(),
+            received_power: balance.received_power(),
         };
         self.history.push(record.clone());
         record

@@ -18,6 +18,7 @@
 //! paper does, [`CpuBackend`](super::cpu::CpuBackend) in Rust with exact visibility. [`Solver`]
 //! runs the loop and keeps the books ([`Ledger`]); `GpuSolver` and `CpuSolver` name the two.
 
+use super::balance::{self, ShotBalance};
 use super::ledger::{Ledger, PassTimes};
 use super::overshoot::Overshoot;
 use super::{shooters, Shooter, ShotRecord, SolveError, SolveOptions};
@@ -161,10 +162,6 @@ impl<'a, B: Backend> Solver<'a, B> {
         polygons.dedup();
         let before = self.ledger.unshot_power();
         let shot_power: f64 = shooters.iter().map(|s| s.power()).sum();
-        let bound = self.reflection_bound(shooters);
-        let powers_before: Vec<f64> = (0..self.scene.polygons.len())
-            .map(|p| self.ledger.totals().power(p))
-            .collect();
         let own: Vec<Shooter> = shooters
             .iter()
             .map(|s| Shooter {
@@ -176,63 +173,87 @@ impl<'a, B: Backend> Solver<'a, B> {
                 ..*s
             })
             .collect();
-        for pass in own.chunks(self.options.shooters_per_pass.max(1) as usize) {
+        self.run_passes(&own, true)?;
+        let mut totals_before = self.read_back()?;
+        let mut balance =
+            ShotBalance::measure(self.scene, &own, &totals_before, self.ledger.totals());
+        // Beyond the paper: a shot whose receivers got more than it carried is scaled back.
+        if self.options.conserve && balance.excess() > balance::CORRECT_ABOVE {
+            let correction = balance::correction(&own, &balance);
+            // The item buffers of a single pass are still in their slots; several passes drew
+            // over each other's.
+            let redraw = own.len() > self.options.shooters_per_pass.max(1) as usize;
+            self.run_passes(&correction, redraw)?;
+            for (p, old) in self.read_back()? {
+                if !totals_before.iter().any(|&(q, _)| q == p) {
+                    totals_before.push((p, old));
+                }
+            }
+            balance = ShotBalance::measure(self.scene, &own, &totals_before, self.ledger.totals());
+            self.ledger.count_correction();
+        }
+        let record =
+            self.ledger
+                .record_shot(polygon, polygons.len() as u32, before, shot_power, &balance);
+        self.check_balance(&record, &balance, &totals_before)?;
+        Ok(record)
+    }
+
+    /// The passes of one shot: for each `shooters_per_pass` of `shooters`, a visibility pass per
+    /// shooter (unless `draw_visibility` is off: their item buffers are already in their slots),
+    /// a reconstruction pass and the accumulation.
+    fn run_passes(
+        &mut self,
+        shooters: &[Shooter],
+        draw_visibility: bool,
+    ) -> Result<(), SolveError> {
+        for pass in shooters.chunks(self.options.shooters_per_pass.max(1) as usize) {
             let (backend, times) = (&mut self.backend, &mut self.ledger.times);
-            for (slot, shooter) in pass.iter().enumerate() {
-                times.time(VISIBILITY, || backend.visibility(shooter, slot))?;
+            if draw_visibility {
+                for (slot, shooter) in pass.iter().enumerate() {
+                    times.time(VISIBILITY, || backend.visibility(shooter, slot))?;
+                }
             }
             times.time(RECONSTRUCTION, || backend.reconstruction(pass))?;
             times.time(ACCUMULATION, || backend.accumulate())?;
             self.ledger.count_pass();
         }
+        Ok(())
+    }
+
+    /// Read the unshot atlas back and re-total the polygons the passes changed (the end of
+    /// step 5, before Find_Max_Energy); their totals before, for the shot's books.
+    fn read_back(&mut self) -> Result<Vec<(usize, [f64; 3])>, SolveError> {
         let (backend, times) = (&mut self.backend, &mut self.ledger.times);
         times.time(READBACK, || backend.read_unshot(&mut self.changed))?;
         let t = Instant::now();
+        let before = self
+            .changed
+            .iter()
+            .map(|&p| (p, self.ledger.totals().energy[p]))
+            .collect();
         let width = self.backend.layout().atlas_width as usize;
         self.ledger
             .update(self.backend.unshot(), width, &self.texels, &self.changed);
         self.ledger.times.add(FIND_MAX_ENERGY, t.elapsed());
-        let record = self
-            .ledger
-            .record_shot(polygon, polygons.len() as u32, before, shot_power);
-        self.check_balance(&record, bound, &powers_before)?;
-        Ok(record)
+        Ok(before)
     }
 
-    /// The most a shot of `shooters` can reflect: per colour channel, what it shoots times the
-    /// largest reflectance any polygon has (as `Shooter::power` averages, over RGB).
-    fn reflection_bound(&self, shooters: &[Shooter]) -> f64 {
-        let kd = self
-            .scene
-            .materials
-            .iter()
-            .fold(glam::Vec3::ZERO, |m, material| m.max(material.kd));
-        // By magnitude: an overshot shooter's negative unshot energy shoots negative light.
-        let energy = shooters
-            .iter()
-            .fold(glam::DVec3::ZERO, |e, s| e + s.energy.as_dvec3().abs());
-        std::f64::consts::PI * energy.dot(kd.as_dvec3()) / 3.0
-    }
-
-    /// Energy balance. A shot that reflected more than `bound` (beyond float noise) broke it
-    /// locally: the receivers' patch centres sample the form factor, which near a contact (a
-    /// lamp base on a cabinet) overestimates what a coarse patch receives. Whole polygons shooting
-    /// in the Table 1 rooms do that on a few shots (up to 1.5x in the simple room, 2.5x in the
-    /// complex one) and still converge, so such a shot is reported once as a warning. Energy is
-    /// created at the scale of the scene when the unshot power passes the emitted power (or what
-    /// `load_atlases` started from), or stops being a number: overlapping receivers, folded
-    /// faces, or the point form factor running away. Going on would make every later shot and the
-    /// picture wrong, so the solve stops there and names the polygons.
+    /// Energy balance. With `SolveOptions::conserve` no shot may deliver more than it carried
+    /// (0.5 % for float noise), since over-delivering shots were scaled back; one that does is an
+    /// error. Without it (the paper's mode), such a shot is reported once as a warning: the
+    /// receivers' patch centres sample the form factor, and the paper's point factor has no bound
+    /// near the shooter. Either way energy is created at the scale of the scene when the unshot
+    /// power passes the emitted power (or what `load_atlases` started from), or stops being a
+    /// number; going on would make every later shot and the picture wrong, so the solve stops
+    /// there and names the polygons.
     fn check_balance(
         &self,
         record: &ShotRecord,
-        bound: f64,
-        powers_before: &[f64],
+        balance: &ShotBalance,
+        totals_before: &[(usize, [f64; 3])],
     ) -> Result<(), SolveError> {
-        // Float noise of the f32 atlas sums; a few 1e-3 also covers the hemicube's per-pixel
-        // delta form factors, which add up to 1 only within their discretisation.
-        let slack = 5e-3 * bound + 1e-9 * self.ledger.emitted_power();
-        let over = record.reflected_power.abs() > bound + slack || record.reflected_power.is_nan();
+        let over = balance.excess() > balance::TOLERANCE || balance.excess().is_nan();
         let ceiling = self.unshot_ceiling.max(self.ledger.emitted_power());
         let growth = self.ledger.unshot_power() / ceiling;
         // Overshooting leaves negative unshot energy behind, so the magnitude may pass the
@@ -240,23 +261,28 @@ impl<'a, B: Backend> Solver<'a, B> {
         let magnitude = self.ledger.unshot_fraction() * self.ledger.emitted_power() / ceiling;
         let runaway =
             growth > 1.0 + 5e-3 || !growth.is_finite() || !magnitude.is_finite() || magnitude > 2.0;
-        if !runaway {
+        let refused = runaway || (over && self.options.conserve);
+        if !refused {
             if over && !self.excess_reported.replace(true) {
                 eprintln!(
-                    "warning: shot {} reflected {:.3}x the most its power allows ({}); the \
-                     patches near the shooter sample its form factor coarsely. The solve goes on \
-                     while the unshot power stays below the emitted power",
+                    "warning: shot {} delivered {:.3}x the power it carried ({}); the patches near \
+                     the shooter sample its form factor coarsely. The solve goes on while the \
+                     unshot power stays below the emitted power",
                     record.shot,
-                    record.reflected_power / bound,
+                    balance.excess(),
                     crate::scene::shown(&self.scene.polygons[record.shooter].object)
                 );
             }
             return Ok(());
         }
         let totals = self.ledger.totals();
-        let mut gains: Vec<(f64, usize)> = (0..self.scene.polygons.len())
-            .filter(|&p| p != record.shooter)
-            .map(|p| (totals.power(p) - powers_before[p], p))
+        let mut gains: Vec<(f64, usize)> = totals_before
+            .iter()
+            .filter(|&&(p, _)| p != record.shooter)
+            .map(|&(p, old)| {
+                let old = std::f64::consts::PI * (old[0] + old[1] + old[2]) / 3.0;
+                (totals.power(p) - old, p)
+            })
             .filter(|&(g, _)| g > 0.0)
             .collect();
         gains.sort_by(|a, b| b.0.total_cmp(&a.0));
@@ -279,6 +305,9 @@ impl<'a, B: Backend> Solver<'a, B> {
             "The point form factor (--form-factor point, as in --mode paper) has no bound for \
              receivers close to the shooter; the polygon form factor (--form-factor polygon, \
              --mode accurate) keeps the balance"
+        } else if !runaway {
+            "A shot delivered more than it carried after it was scaled back: this is a bug; \
+             please report it with the scene"
         } else {
             "Overlapping faces in one plane (a face given twice) or intersecting faces do this; \
              remove the duplicates"
@@ -289,8 +318,8 @@ impl<'a, B: Backend> Solver<'a, B> {
             unshot: growth,
             shooter: name(record.shooter),
             shot_power: record.shot_power,
-            reflected: record.reflected_power,
-            bound,
+            received: record.received_power,
+            excess: balance.excess(),
             receivers: receivers.join(", "),
         })
     }
@@ -348,6 +377,9 @@ impl<'a, B: Backend> Solver<'a, B> {
     /// the options go beyond the paper there.
     pub fn shooters_of(&self, p: usize) -> Vec<Shooter> {
         let own = self.backend.layout();
+        let share = self.ledger.totals().magnitude(p) / self.ledger.emitted_power();
+        let emitter = self.scene.material(&self.scene.polygons[p]).is_emitter();
+        let cell = shooters::cell_side(&self.options, emitter);
         let mut shooters = shooters::shooters_of(
             self.scene,
             own,
@@ -356,6 +388,8 @@ impl<'a, B: Backend> Solver<'a, B> {
             self.ledger.patch_areas(),
             self.ledger.totals(),
             p,
+            cell,
+            shooters::cuts_cells(&self.options, share),
         );
         let remainder = self
             .overshoot
@@ -364,8 +398,7 @@ impl<'a, B: Backend> Solver<'a, B> {
         for s in &mut shooters {
             if let Some(remainder) = remainder {
                 // Each of the shooter's patches shoots −remainder more radiance.
-                let area = patches_in(own, self.backend.unshot(), s.texels, p) as f64
-                    * self.ledger.patch_area(p);
+                let area = s.patches as f64 * self.ledger.patch_area(p);
                 s.energy -= remainder * area as f32;
                 s.remainder = remainder;
             }
@@ -375,6 +408,8 @@ impl<'a, B: Backend> Solver<'a, B> {
             }
             s.texels = move_rect(s.texels, &own.lightmaps[p], &self.layout.lightmaps[p]);
         }
+        // A part with nothing to shoot (and no overshoot to add) costs a pass for nothing.
+        shooters.retain(|s| s.energy != glam::Vec3::ZERO);
         shooters
     }
 
@@ -495,19 +530,6 @@ impl<'a, B: Backend> Solver<'a, B> {
     fn to_caller(&self, atlas: &[f32]) -> Vec<f32> {
         self.backend.layout().move_atlas(atlas, 4, self.layout)
     }
-}
-
-/// The patches of polygon `p` in the texel rectangle `[x0, y0, x1, y1)` of `layout`'s atlas
-/// (`atlas`: RGBA, alpha the polygon ID + 1).
-fn patches_in(layout: &PatchLayout, atlas: &[f32], [x0, y0, x1, y1]: [u32; 4], p: usize) -> u32 {
-    let width = layout.atlas_width as usize;
-    let id = (p + 1) as f32;
-    let mut n = 0;
-    for y in y0 as usize..y1 as usize {
-        let row = &atlas[(y * width + x0 as usize) * 4..(y * width + x1 as usize) * 4];
-        n += row.chunks_exact(4).filter(|t| t[3] == id).count() as u32;
-    }
-    n
 }
 
 /// A texel rectangle of lightmap `from` at the same place in `to` (the same lightmap elsewhere).

@@ -5,7 +5,7 @@
 
 use super::find_max_energy::EnergyTotals;
 use super::{Shooter, SolveOptions, MAX_CORNERS};
-use crate::geometry::{bounds, clip_convex, mean, rectangle, signed_area};
+use crate::geometry::{bounds, clip_convex, rectangle, signed_area};
 use crate::patches::{Lightmap, PatchLayout};
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
@@ -23,9 +23,29 @@ fn world_outline(lm: &Lightmap, outline: &[Vec2]) -> ([Vec3; MAX_CORNERS], usize
     )
 }
 
+/// The side, in patches, of the cells a polygon shoots from (0: the whole polygon from its
+/// centroid): `emitter_cell` for emitters, `shooter_cell` for the rest.
+pub fn cell_side(options: &SolveOptions, emitter: bool) -> u32 {
+    if emitter {
+        options.emitter_cell
+    } else {
+        options.shooter_cell
+    }
+}
+
+/// Whether a shot carrying `share` of the emitted power cuts its cells where touching polygons'
+/// planes cross them (`cell_parts`): always in the paper's accounting of cells, and beyond it
+/// only for shots of at least `SolveOptions::cut_above`. A cut cell shoots from several points,
+/// each a visibility pass; most shots carry little (four in five of the simple room's steps
+/// under 0.1 % of the emitted power each), and a shot's error at a contact grows with its power.
+pub fn cuts_cells(options: &SolveOptions, share: f64) -> bool {
+    share.abs() >= options.cut_above as f64
+}
+
 /// The shooters that carry polygon `p`'s unshot energy: the whole polygon from its centroid
-/// (the paper), or one shooter per cell of `shooter_cell`² patches, each at the mean position
+/// (the paper, `cell` 0), or one shooter per cell of `cell`² patches, each at the mean position
 /// of its patches with the cell's own unshot energy.
+#[allow(clippy::too_many_arguments)]
 pub fn shooters_of(
     scene: &Scene,
     layout: &PatchLayout,
@@ -34,14 +54,11 @@ pub fn shooters_of(
     patch_area: &[f64],
     totals: &EnergyTotals,
     p: usize,
+    cell: u32,
+    cut: bool,
 ) -> Vec<Shooter> {
     let polygon = &scene.polygons[p];
     let lm = &layout.lightmaps[p];
-    let cell = if scene.material(polygon).is_emitter() {
-        options.emitter_cell
-    } else {
-        options.shooter_cell
-    };
     let outline: Vec<Vec2> = polygon.vertices.iter().map(|&v| lm.texel_of(v)).collect();
     if cell == 0 {
         let rect = rectangle(Vec2::ZERO, Vec2::new(lm.w as f32, lm.h as f32));
@@ -54,6 +71,7 @@ pub fn shooters_of(
         return vec![Shooter {
             polygon: p,
             texels: lm.texels(),
+            patches: layout.patches_per_polygon[p],
             position: polygon.centroid,
             normal: polygon.normal,
             energy: totals.energy_rgb(p),
@@ -67,92 +85,104 @@ pub fn shooters_of(
     }
     let width = layout.atlas_width as usize;
     let patch_area = patch_area[p];
-    let texel = |s: u32, t: u32| -> Option<&[f32]> {
+    let texel = |s: u32, t: u32| -> Option<[f32; 3]> {
         let at = ((lm.y + t) as usize * width + (lm.x + s) as usize) * 4;
         let texel = &unshot[at..at + 4];
-        (texel[3] as usize == p + 1).then_some(texel)
+        (texel[3] as usize == p + 1).then(|| [texel[0], texel[1], texel[2]])
     };
-    // One shooter for the patches of [x0, x1) × [y0, y1) with energy: at their energy-weighted
-    // centre, with the rectangle clipped to the polygon as its outline.
-    let shooter = |x0: u32, y0: u32, x1: u32, y1: u32| -> Option<Shooter> {
-        let (mut energy, mut position, mut weight) = ([0f64; 3], Vec3::ZERO, 0f32);
-        for t in y0..y1 {
-            for s in x0..x1 {
-                let Some(texel) = texel(s, t) else { continue };
-                for c in 0..3 {
-                    energy[c] += texel[c] as f64 * patch_area;
-                }
-                // By magnitude: overshooting leaves negative unshot energy to shoot as well.
-                let w = (texel[0] + texel[1] + texel[2]).abs();
-                position += w * lm.world(s as f32 + 0.5, t as f32 + 0.5);
-                weight += w;
-            }
-        }
-        if weight <= 0.0 {
-            return None;
-        }
-        // The rectangle itself where the polygon is not convex or the clip has too many corners.
-        let rect = rectangle(
-            Vec2::new(x0 as f32, y0 as f32),
-            Vec2::new(x1 as f32, y1 as f32),
-        );
-        let clipped = clip_convex(&rect, &outline)
-            .filter(|c| c.len() >= 3 && c.len() <= MAX_CORNERS && signed_area(c) > 0.0);
-        let (corners, corner_count, area) = world_outline(lm, clipped.as_deref().unwrap_or(&rect));
-        Some(Shooter {
-            polygon: p,
-            texels: [lm.x + x0, lm.y + y0, lm.x + x1, lm.y + y1],
-            position: position / weight,
-            normal: polygon.normal,
-            energy: Vec3::new(energy[0] as f32, energy[1] as f32, energy[2] as f32),
-            corners,
-            corner_count,
-            area,
-            remainder: Vec3::ZERO,
-            hemi_res: options.hemi_res,
-            turn: 0.0,
-        })
-    };
-    // A cell shoots from one point, so everything it sends passes the visibility test of that
-    // point. Where another polygon's plane cuts through the cell near that polygon (a block
-    // standing on the floor), the receivers on that polygon see only the part of the cell in
-    // front of them, yet the point may lie behind them (no light at all) or in front (light
-    // through the block's edge): such a cell is cut into quarters, down to single patches,
-    // until no nearby plane crosses a part.
     let mut shooters = Vec::new();
-    let mut parts: Vec<[u32; 4]> = Vec::new();
     for y0 in (0..lm.h).step_by(cell as usize) {
         for x0 in (0..lm.w).step_by(cell as usize) {
-            parts.push([x0, y0, (x0 + cell).min(lm.w), (y0 + cell).min(lm.h)]);
+            let rect = [x0, y0, (x0 + cell).min(lm.w), (y0 + cell).min(lm.h)];
+            for part in cell_parts(scene, p, lm, rect, &texel, cut) {
+                let [x0, y0, x1, y1] = part.rect;
+                let Some((position, energy)) = part_energy(lm, &part, &texel, patch_area) else {
+                    continue;
+                };
+                // The rectangle clipped to the polygon; the rectangle itself where the polygon is
+                // not convex or the clip has too many corners.
+                let rect = rectangle(
+                    Vec2::new(x0 as f32, y0 as f32),
+                    Vec2::new(x1 as f32, y1 as f32),
+                );
+                let clipped = clip_convex(&rect, &outline)
+                    .filter(|c| c.len() >= 3 && c.len() <= MAX_CORNERS && signed_area(c) > 0.0);
+                let (corners, corner_count, area) =
+                    world_outline(lm, clipped.as_deref().unwrap_or(&rect));
+                shooters.push(Shooter {
+                    polygon: p,
+                    texels: [lm.x + x0, lm.y + y0, lm.x + x1, lm.y + y1],
+                    position,
+                    normal: polygon.normal,
+                    energy,
+                    corners,
+                    corner_count,
+                    area,
+                    patches: part.patches.len() as u32,
+                    remainder: Vec3::ZERO,
+                    hemi_res: options.hemi_res,
+                    turn: 0.0,
+                });
+            }
         }
     }
-    while let Some([x0, y0, x1, y1]) = parts.pop() {
-        // A cell whose patches partly have nothing to shoot (buried under a block standing on
-        // the floor, or in a shadow nothing has reached yet) would spread its energy over its
-        // whole outline, dark part included: its patches with energy shoot one by one. So do
-        // those of a cell whose patches have energy of both signs (left by overshooting).
-        let (mut lit, mut negative, mut dark) = (0, 0, 0);
+    // The order of the parts does not change the result but keeps it easy to follow (row by row).
+    shooters.sort_by_key(|s| (s.texels[1], s.texels[0]));
+    shooters
+}
+
+/// Some of a cell's patches and the rectangle of the cell (or of a quarter of it) they lie in,
+/// whose texels their shot clears.
+struct Part {
+    patches: Vec<(u32, u32)>,
+    rect: [u32; 4],
+}
+
+/// The parts of the cell `rect` of polygon `p` that shoot on their own.
+///
+/// A cell shoots from one point, so everything it sends passes the visibility test of that
+/// point. Where the plane of a nearby polygon cuts through the cell (a block standing on the
+/// floor), the receivers on that polygon see only the part of the cell in front of them, yet the
+/// point may lie behind them (no light at all: the Cornell box's short block front stayed black)
+/// or in front (light through the block's edge): such a cell is cut into quarters, down to single
+/// patches, until no such plane crosses a part (when `cut`: see [`cuts_cells`]). Only polygons of at least a quarter of the part's
+/// area count (`crossed`): a book beside a wall's cell sees little of it either way, and cutting
+/// for every small face made the simple room's walls shoot from a hundred parts each.
+///
+/// Patches of both signs (left by overshooting) shoot apart, so that neither cancels the other;
+/// patches with nothing to shoot go with the positive ones (the part's texels are cleared
+/// together, to their remainder when overshooting, so every patch must belong to a part). A part
+/// with nothing to shoot (buried under a block) is left as it is.
+fn cell_parts(
+    scene: &Scene,
+    p: usize,
+    lm: &Lightmap,
+    rect: [u32; 4],
+    texel: &impl Fn(u32, u32) -> Option<[f32; 3]>,
+    cut: bool,
+) -> Vec<Part> {
+    let mut parts = Vec::new();
+    let mut rects = vec![rect];
+    while let Some(rect) = rects.pop() {
+        let [x0, y0, x1, y1] = rect;
+        let (mut positive, mut negative, mut lit) = (Vec::new(), Vec::new(), false);
         for t in y0..y1 {
             for s in x0..x1 {
                 match texel(s, t).map(|v| v[0] + v[1] + v[2]) {
-                    Some(sum) if sum > 0.0 => lit += 1,
-                    Some(sum) if sum < 0.0 => negative += 1,
-                    Some(_) => dark += 1,
+                    Some(sum) if sum < 0.0 => negative.push((s, t)),
+                    Some(sum) => {
+                        lit |= sum > 0.0;
+                        positive.push((s, t));
+                    }
                     None => {}
                 }
             }
         }
-        if lit + negative == 0 {
+        if !lit && negative.is_empty() {
             continue;
         }
         let single = x1 - x0 == 1 && y1 - y0 == 1;
-        if (dark > 0 || (lit > 0 && negative > 0)) && !single {
-            for t in y0..y1 {
-                for s in x0..x1 {
-                    parts.push([s, t, s + 1, t + 1]);
-                }
-            }
-        } else if !single && crossed_nearby(scene, p, lm, [x0, y0, x1, y1]) {
+        if cut && !single && crossed(scene, p, lm, rect) {
             let (xm, ym) = ((x0 + x1).div_ceil(2), (y0 + y1).div_ceil(2));
             for [a, b, c, d] in [
                 [x0, y0, xm, ym],
@@ -161,41 +191,81 @@ pub fn shooters_of(
                 [xm, ym, x1, y1],
             ] {
                 if a < c && b < d {
-                    parts.push([a, b, c, d]);
+                    rects.push([a, b, c, d]);
                 }
             }
-        } else {
-            shooters.extend(shooter(x0, y0, x1, y1));
+            continue;
+        }
+        for patches in [positive, negative] {
+            if !patches.is_empty() {
+                parts.push(Part { patches, rect });
+            }
         }
     }
-    // The order of the parts does not change the result but keeps it easy to follow (row by row).
-    shooters.sort_by_key(|s| (s.texels[1], s.texels[0]));
-    shooters
+    parts
 }
 
-/// Does the plane of another polygon near the lightmap rectangle `[x0, y0, x1, y1)` of polygon
-/// `p` cut through it? "Near": the other polygon's bounding box comes within the rectangle's
-/// diagonal of the rectangle's centre.
-fn crossed_nearby(scene: &Scene, p: usize, lm: &Lightmap, [x0, y0, x1, y1]: [u32; 4]) -> bool {
+/// What one part shoots: its energy-weighted centre and its energy (Σ L·A, RGB). A part whose
+/// patches have nothing to shoot (beside a part of the other sign) shoots from their middle: its
+/// texels are cleared all the same, to their remainder when overshooting.
+fn part_energy(
+    lm: &Lightmap,
+    part: &Part,
+    texel: &impl Fn(u32, u32) -> Option<[f32; 3]>,
+    patch_area: f64,
+) -> Option<(Vec3, Vec3)> {
+    if part.patches.is_empty() {
+        return None;
+    }
+    let (mut energy, mut position, mut weight) = ([0f64; 3], Vec3::ZERO, 0f32);
+    for &(s, t) in &part.patches {
+        let Some(v) = texel(s, t) else { continue };
+        for c in 0..3 {
+            energy[c] += v[c] as f64 * patch_area;
+        }
+        // By magnitude: overshooting leaves negative unshot energy to shoot as well.
+        let w = (v[0] + v[1] + v[2]).abs();
+        position += w * lm.world(s as f32 + 0.5, t as f32 + 0.5);
+        weight += w;
+    }
+    if weight <= 0.0 {
+        for &(s, t) in &part.patches {
+            position += lm.world(s as f32 + 0.5, t as f32 + 0.5);
+        }
+        weight = part.patches.len() as f32;
+    }
+    Some((
+        position / weight,
+        Vec3::new(energy[0] as f32, energy[1] as f32, energy[2] as f32),
+    ))
+}
+
+/// Does the plane of another polygon touching the lightmap rectangle `[x0, y0, x1, y1)` of
+/// polygon `p` cut through it? "Touching": the other polygon's bounding box comes within a tenth
+/// of the rectangle's diagonal of the rectangle's (a table top a metre from a wall crosses the
+/// wall's plane, but none of its receivers sees the wall from behind); only polygons of at least
+/// a quarter of the rectangle's area count (see `cell_parts`).
+fn crossed(scene: &Scene, p: usize, lm: &Lightmap, [x0, y0, x1, y1]: [u32; 4]) -> bool {
     let corners = [
         lm.world(x0 as f32, y0 as f32),
         lm.world(x1 as f32, y0 as f32),
         lm.world(x1 as f32, y1 as f32),
         lm.world(x0 as f32, y1 as f32),
     ];
-    let centre = mean(&corners);
+    let (cell_lo, cell_hi) = bounds(&corners).expect("four corners");
     let reach = (corners[2] - corners[0]).length();
+    let area = (corners[1] - corners[0]).length() * (corners[3] - corners[0]).length();
     // Planes that merely touch the cell (a wall meeting the floor along its edge) do not count.
     let slack = 1e-3 * reach;
     let normal = scene.polygons[p].normal;
     scene.polygons.iter().enumerate().any(|(q, other)| {
-        if q == p || other.normal.dot(normal).abs() > 0.999 {
+        if q == p || other.normal.dot(normal).abs() > 0.999 || other.area < 0.25 * area {
             return false;
         }
         let Some((lo, hi)) = bounds(&other.vertices) else {
             return false;
         };
-        if centre.clamp(lo, hi).distance(centre) > reach {
+        if aabb_gap((cell_lo, cell_hi), (lo, hi)) > 0.1 * reach {
             return false;
         }
         let anchor = other.vertices[0];
@@ -207,4 +277,9 @@ fn crossed_nearby(scene: &Scene, p: usize, lm: &Lightmap, [x0, y0, x1, y1]: [u32
         }
         below && above
     })
+}
+
+/// The gap between two axis-aligned boxes (0 where they overlap).
+fn aabb_gap((a_lo, a_hi): (Vec3, Vec3), (b_lo, b_hi): (Vec3, Vec3)) -> f32 {
+    (b_lo - a_hi).max(a_lo - b_hi).max(Vec3::ZERO).length()
 }

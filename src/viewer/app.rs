@@ -8,6 +8,7 @@
 use super::camera::OrbitCamera;
 use super::overlays::{Insets, OverlaySet};
 use super::panel::{self, Actions, Controls, Readout};
+use super::reach::Reach;
 use super::session::Session;
 use super::{ViewMode, ViewOptions};
 use crate::display::output::{write_atomic, Payload};
@@ -80,10 +81,15 @@ struct Viewer {
     last_frame: Instant,
     message: Option<String>,
     settle: u32,
+    /// Where the panel's controls were in the last frame (printed with a screenshot).
+    reach: Reach,
 }
 
 pub fn run(options: ViewOptions) -> Result<()> {
-    let (scene, _) = crate::pipeline::load_scene(options.scene.as_deref())?;
+    let load = crate::scene::LoadOptions {
+        emit: options.emit.clone(),
+    };
+    let (scene, _) = crate::pipeline::load_scene_with(options.scene.as_deref(), &load)?;
     let event_loop = EventLoop::new().map_err(|e| {
         anyhow!(
             "cannot open a window: no display ({e}). Run it on a desktop, or headless under \
@@ -161,6 +167,7 @@ pub fn run(options: ViewOptions) -> Result<()> {
         last_frame: Instant::now(),
         message: None,
         settle: 0,
+        reach: Reach::default(),
     };
     let result = solves(&mut viewer, &ctx, &scene);
     viewer.gui.painter.destroy();
@@ -184,7 +191,8 @@ fn solves(v: &mut Viewer, ctx: &GlContext, scene: &Scene) -> Result<()> {
             },
         };
         let c = &v.controls;
-        let session = Session::new(ctx, scene, &layout, c.mode, c.threshold);
+        let smooth = v.options.smooth_angle;
+        let session = Session::new(ctx, scene, &layout, c.mode, c.threshold, smooth);
         let mut session = match (session, good) {
             (Ok(s), _) => s,
             (Err(e), None) => return Err(e.into()),
@@ -270,6 +278,7 @@ fn frames(v: &mut Viewer, ctx: &GlContext, scene: &Scene, s: &mut Session) -> Re
                     w,
                     h
                 );
+                eprintln!("{}", v.reach);
                 return Ok(Next::Quit);
             }
         }
@@ -418,9 +427,12 @@ fn draw(v: &mut Viewer, ctx: &GlContext, scene: &Scene, s: &Session) -> Result<(
     let gui = &mut v.gui;
     let controls = &mut v.controls;
     let mut actions = Actions::default();
+    let reach = &mut v.reach;
     let input = gui.state.take_egui_input(&v.window.window);
     let out = gui.ctx.run(input, |ui| {
-        actions = panel::show(ui, controls, &readout);
+        let shown = panel::show(ui, controls, &readout);
+        actions = shown.actions;
+        *reach = shown.reach;
     });
     gui.state
         .handle_platform_output(&v.window.window, out.platform_output);

@@ -5,12 +5,13 @@
 //! `app.rs` is the frame loop (events → a bounded number of shots → draw → panel → present);
 //! `session.rs` one solve (layout, solver, the textures the frame draws from; rebuilt on reset);
 //! `camera.rs` the orbit camera; `overlays.rs` the overlays and insets; `panel.rs` the egui side
-//! panel.
+//! panel; `reach.rs` which of the panel's controls a user can reach (in view, or by scrolling).
 
 mod app;
 pub mod camera;
 pub mod overlays;
 mod panel;
+mod reach;
 mod session;
 
 pub use overlays::Overlay;
@@ -25,6 +26,8 @@ pub use crate::pipeline::Mode as ViewMode;
 pub struct ViewOptions {
     /// The OBJ file; `None`: the Cornell box built into the binary.
     pub scene: Option<PathBuf>,
+    /// Emission overrides applied after loading (`--emit NAME=R,G,B`).
+    pub emit: Vec<crate::scene::Emission>,
     pub mode: ViewMode,
     /// Stop when unshot power / emitted power ≤ this. Range (0, 1); typical 0.01.
     pub threshold: f32,
@@ -36,6 +39,9 @@ pub struct ViewOptions {
     pub size: (u32, u32),
     /// Radiance multiplier before tone mapping, as `solve --exposure`. Typical 1.
     pub exposure: f32,
+    /// Crease angle of the smooth shading, degrees, as `solve --smooth-angle` (0: off). Range
+    /// [0, 90); typical `display::smooth::DEFAULT_ANGLE`.
+    pub smooth_angle: f32,
     /// Most shots per frame while running. Range 1..=64; typical 4.
     pub shots_per_frame: u32,
     pub overlays: Vec<Overlay>,

@@ -5,12 +5,12 @@
 use super::camera::OrbitCamera;
 use super::overlays::{inset_rect, Inset, Insets, OverlaySet, HEAT_DECADES};
 use super::ViewMode;
-use crate::display::{scene_view_projection, DisplayPass, Viewport};
-use crate::gl::{GlContext, GlError, Mesh, Texture, TextureFormat};
+use crate::display::{scene_view_projection, DisplayMesh, DisplayPass, Smoothing, Viewport};
+use crate::gl::{GlContext, GlError, Texture, TextureFormat};
 use crate::glsl;
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
-use crate::solver::{mesh, GpuSolver, SolveError, SolveOptions};
+use crate::solver::{GpuSolver, SolveError, SolveOptions};
 use std::time::{Duration, Instant};
 
 pub struct Session<'a> {
@@ -19,8 +19,8 @@ pub struct Session<'a> {
     pub layout: &'a PatchLayout,
     /// The display pass with the viewer's shaders; its lightmap is the dilated radiance atlas.
     display: DisplayPass,
-    /// The scene with the layout's lightmap coordinates.
-    mesh: Mesh,
+    /// The scene with the layout's lightmap coordinates and its smooth edges.
+    mesh: DisplayMesh,
     /// The radiance atlas as solved (not dilated), for the atlas inset.
     atlas: Texture,
     /// The unshot atlas, for the heat map.
@@ -38,6 +38,7 @@ impl<'a> Session<'a> {
         layout: &'a PatchLayout,
         mode: ViewMode,
         threshold: f32,
+        smooth_angle: f32,
     ) -> Result<Session<'a>, SolveError> {
         let options = SolveOptions {
             threshold,
@@ -57,7 +58,8 @@ impl<'a> Session<'a> {
             )
         };
         let (atlas, unshot) = (texture()?, texture()?);
-        let mesh = mesh::upload(&ctx.gl, &mesh::vertex_data(scene, layout))?;
+        let smoothing = Smoothing::new(scene, layout, smooth_angle);
+        let mesh = DisplayMesh::new(&ctx.gl, scene, layout, smoothing)?;
         solver.restart_clock();
         let mut session = Session {
             solver,
@@ -100,6 +102,8 @@ impl<'a> Session<'a> {
         self.atlas.upload_f32(&radiance);
         self.layout.dilate(&mut radiance);
         self.display.upload(&radiance);
+        let (w, h) = (self.layout.atlas_width, self.layout.atlas_height);
+        self.mesh.update(&radiance, w, h);
         let unshot = self.solver.unshot_atlas();
         self.unshot.upload_f32(&unshot);
         let max = unshot

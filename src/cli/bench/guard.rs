@@ -2,7 +2,8 @@
 //! beside its accuracy (the mean per-patch difference from the exhaustive CPU solution,
 //! `validate::guard`), so that no option is timed without its price in accuracy.
 
-use super::{configurations, gpu_run, median, room, BenchArgs};
+use super::{gpu_run, median, room, BenchArgs};
+use crate::solver::configurations;
 use crate::solver::SolveOptions;
 use crate::validate::guard;
 use anyhow::Result;

@@ -7,8 +7,10 @@
 //! - `scaling` (`scaling.rs`): seconds, shots and peak memory against the patch count, both
 //!   solvers, with a log-log plot.
 //!
-//! The configurations they time are here: [`bench_options`] (the paper's loop: one polygon and one
-//! pass per shot) and [`fast_options`] (the same with the speed options beyond the paper).
+//! The configurations they time are the solver's (`solver::options`): `SolveOptions::paper_faithful`
+//! (the paper's loop: one polygon and one pass per shot), `SolveOptions::default_with` (the
+//! default, with the speed options beyond the paper) and `solver::configurations` (each speed
+//! option alone, for the guard).
 
 mod guard;
 pub mod scaling;
@@ -110,36 +112,15 @@ pub struct BenchArgs {
     #[arg(long, hide = true)]
     pub one: Option<String>,
     /// `scaling` (and the internal cold run of `table1`): the configuration to time,
-    /// `paper-faithful` (one polygon, one pass per shot) or `fast` (with the speed options).
-    #[arg(long, default_value = "paper-faithful", value_parser = ["paper-faithful", "fast"])]
+    /// `paper-faithful` (one polygon, one pass per shot), `default` (`radiosity solve`'s) or
+    /// `whole polygons` (the default's speed options, whole polygons shooting).
+    #[arg(long, default_value = "paper-faithful", value_parser = ["paper-faithful", "default", "whole polygons"])]
     pub configuration: String,
     /// Internal (the cold measurement's child process): time one GPU run of the first room and
     /// print `setup_s <seconds>`, `loop_s <seconds>` and `shots <n>`.
     #[arg(long, hide = true)]
     pub gpu_only: bool,
 }
-
-/// The bench's solver settings: the paper's loop (one pass per shot, the whole polygon shoots)
-/// with the accurate mode's form factor and visibility, which stay stable on these rooms (the
-/// paper's point factor creates energy between close polygons and never converges here).
-///
-/// The hemicube is 128² per face, chosen by measurement on the simple room (README, "Table 1"):
-/// against the CPU solver's exact ray casts the mean patch difference is 3.3 % at 64², 1.5 % at
-/// 128², 1.1 % at 192² and at 256², while the visibility pass costs about twice as much at 256²
-/// as at 128². A 128² face pixel at the room's typical 2.5 m is 4 cm, a third of a patch.
-pub fn bench_options(threshold: f32) -> SolveOptions {
-    SolveOptions {
-        threshold,
-        shooter_cell: 0,
-        emitter_cell: 0,
-        max_shots: 1_000_000,
-        hemi_res: BENCH_HEMI_RES,
-        ..SolveOptions::accurate()
-    }
-}
-
-/// Item-buffer resolution of the bench (see `bench_options`).
-pub const BENCH_HEMI_RES: u32 = 128;
 
 pub fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(|a, b| a.total_cmp(b));
@@ -168,77 +149,6 @@ pub fn peak_memory_mib() -> f64 {
         })
         .map(|kib| kib / 1024.0)
         .unwrap_or(0.0)
-}
-
-/// Item-buffer resolutions of the fast configuration (see [`fast_options`]): the big shots',
-/// the small shots' at the `SMALL_SHOT` share, and the least the smallest get.
-pub const FAST_HEMI_RES: u32 = 256;
-pub const FAST_SMALL_HEMI_RES: u32 = 128;
-pub const FAST_MIN_HEMI_RES: u32 = 16;
-
-/// The item buffer chosen per shot: [`FAST_HEMI_RES`]² for the few shots that carry more than
-/// [`crate::solver::SMALL_SHOT`] of the emitted power (on the simple room 11 of 1,352, with 70 %
-/// of all the power shot); below, a side that falls with the cube root of the shot's share,
-/// from [`FAST_SMALL_HEMI_RES`] to [`FAST_MIN_HEMI_RES`] (`SolveOptions::min_hemi_res`): most
-/// shots are tiny (four in five of the simple room's steps carry under 0.1 % of the emitted
-/// power each, 97 % of the complex room's), and their sampling errors average out.
-fn by_shot(options: SolveOptions) -> SolveOptions {
-    SolveOptions {
-        hemi_res: FAST_HEMI_RES,
-        small_hemi_res: FAST_SMALL_HEMI_RES,
-        small_shot: crate::solver::SMALL_SHOT,
-        min_hemi_res: FAST_MIN_HEMI_RES,
-        ..options
-    }
-}
-
-/// Shooters per reconstruction pass in the fast configuration (see [`fast_options`]).
-pub const FAST_SHOOTERS_PER_PASS: u32 = 8;
-
-/// The fast configuration (beyond the paper; measured against the accuracy guard in
-/// docs/accuracy.md): [`bench_options`] with overshooting, the item buffer chosen per shot and
-/// turned about the normal shot by shot (which costs nothing and takes back much of what the
-/// small item buffers lose), and [`FAST_SHOOTERS_PER_PASS`] shooters per reconstruction pass
-/// (which share the pass's fixed costs: the draws of the whole atlas, the copies, the readback).
-pub fn fast_options(threshold: f32) -> SolveOptions {
-    by_shot(SolveOptions {
-        overshoot: true,
-        rotate_item_buffer: true,
-        shooters_per_pass: FAST_SHOOTERS_PER_PASS,
-        ..bench_options(threshold)
-    })
-}
-
-/// The configurations `bench guard` compares: the paper-faithful one, each speed option alone,
-/// and the fast one (all of them).
-pub fn configurations(threshold: f32) -> Vec<(&'static str, SolveOptions)> {
-    let base = bench_options(threshold);
-    vec![
-        ("paper-faithful", base.clone()),
-        (
-            "overshoot",
-            SolveOptions {
-                overshoot: true,
-                ..base.clone()
-            },
-        ),
-        ("item buffer by shot", by_shot(base.clone())),
-        (
-            "item buffer turned",
-            SolveOptions {
-                rotate_item_buffer: true,
-                ..base.clone()
-            },
-        ),
-        (
-            "shooters per pass",
-            SolveOptions {
-                shooters_per_pass: FAST_SHOOTERS_PER_PASS,
-                ..base
-            },
-        ),
-        ("fast", fast_options(threshold)),
-    ]
 }
 
 pub fn room(name: &str) -> Result<(crate::scene::Scene, PatchLayout)> {

@@ -12,6 +12,7 @@
 //! exponent is the least-squares slope of log(loop time) against log(patches).
 
 use super::{median, room, BenchArgs};
+use crate::display::scaling_plot;
 use crate::gl::GlContext;
 use crate::patches::{PatchLayout, Resolution};
 use crate::solver::cpu::CpuSolver;
@@ -43,10 +44,23 @@ pub struct Run {
     /// The shot count `loop_to_convergence_s` assumes.
     #[serde(default)]
     pub shots_to_convergence: u32,
-    /// Loop seconds after every [`PROGRESS_STEP`] shots, for extrapolating the runs of the same
+    /// Loop seconds after every `PROGRESS_STEP` shots, for extrapolating the runs of the same
     /// room and solver that the budget stops.
     #[serde(default)]
     pub progress: Vec<f64>,
+}
+
+impl Run {
+    /// The run as a point of the scaling plot.
+    fn point(&self) -> scaling_plot::Point {
+        scaling_plot::Point {
+            room: self.room.clone(),
+            solver: self.solver.clone(),
+            patches: self.patches,
+            loop_s: self.loop_to_convergence_s,
+            measured: self.complete,
+        }
+    }
 }
 
 /// Shots between two entries of `Run::progress`.
@@ -329,8 +343,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         outln!("exponent {room} {solver}: loop time ∝ patches^{e:.2}");
     }
     if let Some(path) = &args.plot {
-        let rgb = crate::display::scaling_plot::draw(&runs, &exponents, &configuration)?;
-        let (width, height) = crate::display::scaling_plot::SIZE;
+        let points: Vec<_> = runs.iter().map(Run::point).collect();
+        let rgb = scaling_plot::draw(&points, &exponents, &configuration)?;
+        let (width, height) = scaling_plot::SIZE;
         crate::display::output::write_atomic(
             path,
             crate::display::output::Payload::Png {

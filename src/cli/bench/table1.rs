@@ -1,9 +1,11 @@
 //! `radiosity bench table1`: the paper's Table 1 on this machine — both rooms, both solvers, the
-//! same stopping rule — printed beside the paper's numbers. Two rows per room: the
+//! same stopping rule — printed beside the paper's numbers. Three rows per room, timed in the
+//! same run, each with its accuracy on the simple room (the guard of `validate::guard`): the
 //! paper-faithful configuration (one polygon, one visibility and one reconstruction pass per
-//! shot: [`bench_options`]) and the fast one ([`fast_options`]: the same loop with the speed
-//! options beyond the paper), timed in the same run, each with its accuracy on the simple room
-//! (the guard of `validate::guard`).
+//! shot: `SolveOptions::paper_faithful`), the default (`SolveOptions::default_with`: cells for
+//! large polygons and the speed options beyond the paper), and whole polygons with the speed
+//! options (`SolveOptions::whole_polygons`), which is right only where every polygon is small
+//! next to the patch size, as in these rooms, and is faster there.
 //!
 //! Each solver's time is split in two. *Setup* is everything before the first shot: for the GPU
 //! a new GL context and `GpuSolver::new` (shader compiles, uploads, the emission pass, up to a
@@ -18,10 +20,7 @@
 //! once per process), times the other runs with the cache warm (after one untimed run has filled
 //! it), and prints both; the headline figures are the warm ones.
 
-use super::{
-    bench_options, cpu_model, fast_options, gpu_run, median, peak_memory_mib, room, BenchArgs,
-    ShaderCache,
-};
+use super::{cpu_model, gpu_run, median, peak_memory_mib, room, BenchArgs, ShaderCache};
 use crate::gl::GlContext;
 use crate::solver::cpu::CpuSolver;
 use crate::solver::SolveOptions;
@@ -33,15 +32,16 @@ use std::time::Instant;
 /// The paper's Table 1 (Intel Core i3 3.6 GHz, GeForce GT705).
 const PAPER: [(&str, f64, f64); 2] = [("simple", 4.0, 2.0), ("complex", 139.0, 79.0)];
 
-/// The two configurations of each room's rows: the paper's loop, and the fast one.
-pub const CONFIGURATIONS: [&str; 2] = ["paper-faithful", "fast"];
+/// The configurations of each room's rows: the paper's loop, the default, and whole polygons
+/// with the default's speed options.
+pub const CONFIGURATIONS: [&str; 3] = ["paper-faithful", "default", "whole polygons"];
 
 /// The options of configuration `name` (one of [`CONFIGURATIONS`]).
 pub fn configuration(name: &str, threshold: f32) -> SolveOptions {
-    if name == "fast" {
-        fast_options(threshold)
-    } else {
-        bench_options(threshold)
+    match name {
+        "default" => SolveOptions::default_with(threshold),
+        "whole polygons" => SolveOptions::whole_polygons(threshold),
+        _ => SolveOptions::paper_faithful(threshold),
     }
 }
 
@@ -67,7 +67,7 @@ struct Times {
 #[derive(serde::Serialize)]
 struct Row {
     scene: String,
-    /// `paper-faithful` or `fast`.
+    /// One of [`CONFIGURATIONS`].
     configuration: &'static str,
     faces: usize,
     vertices: usize,
@@ -100,8 +100,8 @@ struct Report {
     shader_cache_note: String,
     /// The accuracy guard: what `mean_patch_difference` compares against, and its bound.
     guard: String,
-    options: SolveOptions,
-    fast_options: SolveOptions,
+    /// Each configuration's settings, by name.
+    options: std::collections::BTreeMap<&'static str, SolveOptions>,
     peak_memory_mib: f64,
     rows: Vec<Row>,
 }
@@ -206,7 +206,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             bar.set_message(format!(
                 "{name}: the exhaustive CPU solution (accuracy guard)"
             ));
-            let base = bench_options(args.threshold);
+            let base = SolveOptions::paper_faithful(args.threshold);
             Some(guard::reference(&scene, &layout, &base, args.threads)?.0)
         } else {
             None
@@ -334,25 +334,21 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     for r in &mut rows {
         r.gpu.shader_cache = Some(state);
     }
-    let options = bench_options(args.threshold);
     let report = Report {
         machine: cpu_model(),
         cores,
         gl_renderer: info.renderer.clone(),
         gl_version: info.version.clone(),
         stopping_rule: format!(
-            "unshot power / emitted power <= {}; whole polygons shoot (one pass per shot, as in \
-             the paper), polygon form factor, {}² hemicube; fast: the same with overshooting and \
-             the item buffer at {}² for shots over {} of the emitted power, below that from {}² \
-             down to {}² with the cube root of the shot's share, turned about the shooter's \
-             normal shot by shot, {} shooters per reconstruction pass; median of {} run(s)",
+            "unshot power / emitted power <= {}; paper-faithful: whole polygons shoot (one pass \
+             per shot, as in the paper), polygon form factor, {}² hemicube; default: `radiosity \
+             solve`'s settings (cells of 4×4 patches, overshooting, the item buffer by shot and \
+             turned, {} shooters per pass); whole polygons: the default's speed options with \
+             whole polygons shooting; every configuration scales back a shot that delivered more \
+             than it carried; median of {} run(s)",
             args.threshold,
-            options.hemi_res,
-            super::FAST_HEMI_RES,
-            crate::solver::SMALL_SHOT,
-            super::FAST_SMALL_HEMI_RES,
-            super::FAST_MIN_HEMI_RES,
-            super::FAST_SHOOTERS_PER_PASS,
+            crate::solver::BENCH_HEMI_RES,
+            crate::solver::MAX_SHOOTERS_PER_PASS,
             args.repeat
         ),
         timing:
@@ -372,8 +368,10 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             guard::REFERENCE_THRESHOLD,
             100.0 * guard::MEAN_DIFFERENCE_BOUND
         ),
-        fast_options: fast_options(args.threshold),
-        options,
+        options: CONFIGURATIONS
+            .iter()
+            .map(|&c| (c, configuration(c, args.threshold)))
+            .collect(),
         peak_memory_mib: peak_memory_mib(),
         rows,
     };

@@ -55,6 +55,7 @@ impl<'a> CpuBackend<'a> {
         options: &SolveOptions,
         threads: usize,
     ) -> Result<Self, SolveError> {
+        options.check(None)?;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()

@@ -1,0 +1,331 @@
+//! The camera of a scene without a `# camera` line. Up is +Y (the OBJ convention, and what
+//! Blender's exporter writes); a scene modelled with another up axis needs its own camera.
+//!
+//! The display draws both sides of every polygon, the back black, so a good picture is one whose
+//! rays meet the fronts of polygons. Candidate views are judged by casting rays:
+//!
+//! - **A closed room is shown from inside.** Eyes at mid-height (or a little lower or higher)
+//!   near one end of the longest horizontal axis (then farther in, then along the other axis),
+//!   looking along it with a wide field of view. An eye is inside a room when at least 90 % of
+//!   rays cast in all directions from it meet the front of a polygon (walls face inward; an eye
+//!   inside a solid meets backs, one in an open scene meets nothing). The first such eye whose
+//!   picture is at least 90 % fronts of polygons is taken.
+//! - **Otherwise the scene is shown whole from outside**: the eye where the bounding sphere fits
+//!   the field of view, from a three-quarter view above (from -Z and +X), or, when that shows
+//!   mostly backs of polygons (a box open on one side seen from behind), from the direction
+//!   among 24 (8 around, 3 heights) whose picture shows the largest share of fronts.
+
+use super::{Camera, Scene};
+use crate::solver::cpu::visibility::Bvh;
+use glam::Vec3;
+
+/// Rays cast in all directions from a candidate eye.
+const RAYS: usize = 512;
+/// Share of them that must meet the front of a polygon for the eye to be inside a room: a
+/// doorway or a window lets some out.
+const ENCLOSED: f32 = 0.9;
+/// Rays per side of the grid cast through a candidate picture.
+const GRID: usize = 16;
+/// Share of a picture from inside that must show fronts of polygons.
+const SHOWN: f32 = 0.9;
+/// Share of the surfaces in a picture from outside that may be backs before other directions
+/// are tried.
+const BACKS: f32 = 0.05;
+/// Vertical field of view inside a room, degrees: wide, as a photograph of an interior.
+pub const ROOM_FOV: f32 = 70.0;
+/// Vertical field of view from outside, degrees.
+pub const OUTSIDE_FOV: f32 = 40.0;
+/// Where the eye may stand along the room's axis (share of its length from one end).
+const ALONG: [f32; 3] = [0.12, 0.25, 0.4];
+/// Eye heights tried (share of the room's height from the floor).
+const HEIGHTS: [f32; 3] = [0.5, 0.35, 0.65];
+/// Heights of the view from outside, degrees above the horizon.
+const ELEVATIONS: [f32; 3] = [30.0, 10.0, 0.0];
+
+pub(super) fn default_camera(scene: &Scene) -> Camera {
+    let bvh = Bvh::new(scene);
+    interior(scene, &bvh).unwrap_or_else(|| exterior(scene, &bvh))
+}
+
+/// From inside, if the scene closes around a candidate eye and the view from it shows fronts.
+fn interior(scene: &Scene, bvh: &Bvh) -> Option<Camera> {
+    let (lo, hi) = scene.bounds();
+    let extent = hi - lo;
+    // A scene without height (a floor alone) encloses nothing.
+    if extent.y <= 1e-3 * extent.length() {
+        return None;
+    }
+    let axes = if extent.x >= extent.z {
+        [Vec3::X, Vec3::Z]
+    } else {
+        [Vec3::Z, Vec3::X]
+    };
+    let centre = lo + 0.5 * extent;
+    let directions = sphere_directions(RAYS);
+    for axis in axes {
+        let length = extent.dot(axis);
+        for along in ALONG {
+            for height in HEIGHTS {
+                // Near the low end looking towards the high one, then the other way round.
+                for (start, forward) in [(lo, axis), (hi, -axis)] {
+                    let mut eye = centre + axis * (start - centre).dot(axis);
+                    eye += forward * along * length;
+                    eye.y = lo.y + height * extent.y;
+                    let camera = Camera {
+                        eye,
+                        // Towards the centre: the viewer orbits about the target, inside.
+                        target: eye + forward * (0.5 - along).max(0.05) * length,
+                        up: Vec3::Y,
+                        fov_y: ROOM_FOV,
+                    };
+                    let all = directions.iter().map(|&d| (eye, d));
+                    if fronts(scene, bvh, all).share() >= ENCLOSED
+                        && fronts(scene, bvh, picture_rays(&camera)).share() >= SHOWN
+                    {
+                        return Some(camera);
+                    }
+                }
+            }
+        }
+    }
+    None
+}
+
+/// From outside, the bounding sphere filling the field of view.
+fn exterior(scene: &Scene, bvh: &Bvh) -> Camera {
+    let (lo, hi) = scene.bounds();
+    let centre = 0.5 * (lo + hi);
+    let radius = 0.5 * (hi - lo).length();
+    let distance = radius / (0.5 * OUTSIDE_FOV.to_radians()).sin();
+    let mut best: Option<(f32, Camera)> = None;
+    for elevation in ELEVATIONS {
+        // From -Z turned 30° towards +X, then on round in steps of 45°.
+        for k in 0..8 {
+            let (azimuth, elevation) = (
+                (30.0 + 45.0 * k as f32).to_radians(),
+                elevation.to_radians(),
+            );
+            let direction = Vec3::new(
+                azimuth.sin() * elevation.cos(),
+                elevation.sin(),
+                -azimuth.cos() * elevation.cos(),
+            );
+            let camera = Camera {
+                eye: centre + direction * distance,
+                target: centre,
+                up: Vec3::Y,
+                fov_y: OUTSIDE_FOV,
+            };
+            let seen = fronts(scene, bvh, picture_rays(&camera));
+            let backs = seen.back as f32 / (seen.front + seen.back).max(1) as f32;
+            if backs <= BACKS {
+                return camera;
+            }
+            if best.is_none_or(|(b, _)| backs < b) {
+                best = Some((backs, camera));
+            }
+        }
+    }
+    best.map(|(_, c)| c).expect("eight directions tried")
+}
+
+/// What rays meet: fronts of polygons, backs, or nothing.
+#[derive(Default)]
+struct Seen {
+    front: usize,
+    back: usize,
+    rays: usize,
+}
+
+impl Seen {
+    /// The share of rays that met a front.
+    fn share(&self) -> f32 {
+        self.front as f32 / self.rays.max(1) as f32
+    }
+}
+
+fn fronts(scene: &Scene, bvh: &Bvh, rays: impl Iterator<Item = (Vec3, Vec3)>) -> Seen {
+    let mut seen = Seen::default();
+    for (o, d) in rays {
+        seen.rays += 1;
+        if let Some((_, p)) = bvh.closest(o, d, u32::MAX) {
+            if scene.polygons[p as usize].normal.dot(d) < 0.0 {
+                seen.front += 1;
+            } else {
+                seen.back += 1;
+            }
+        }
+    }
+    seen
+}
+
+/// Rays from the eye through a [`GRID`] × [`GRID`] grid over a square picture.
+fn picture_rays(camera: &Camera) -> impl Iterator<Item = (Vec3, Vec3)> {
+    let forward = (camera.target - camera.eye).normalize();
+    let right = forward.cross(camera.up).normalize();
+    let up = right.cross(forward);
+    let half = (0.5 * camera.fov_y.to_radians()).tan();
+    let eye = camera.eye;
+    (0..GRID * GRID).map(move |k| {
+        let at = |i: usize| ((i as f32 + 0.5) / GRID as f32 * 2.0 - 1.0) * half;
+        let d = forward + at(k % GRID) * right + at(k / GRID) * up;
+        (eye, d.normalize())
+    })
+}
+
+/// `n` directions spread evenly over the sphere (a Fibonacci lattice).
+fn sphere_directions(n: usize) -> Vec<Vec3> {
+    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
+    (0..n)
+        .map(|i| {
+            let y = 1.0 - 2.0 * (i as f32 + 0.5) / n as f32;
+            let r = (1.0 - y * y).sqrt();
+            let a = golden * i as f32;
+            Vec3::new(r * a.cos(), y, r * a.sin())
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{test_scene, Polygon};
+    use super::*;
+
+    /// The six faces of a box from `lo` to `hi`, facing in (a room) or out (a solid).
+    fn cuboid(lo: Vec3, hi: Vec3, inward: bool) -> Vec<Polygon> {
+        let c = |x: bool, y: bool, z: bool| {
+            Vec3::new(
+                if x { hi.x } else { lo.x },
+                if y { hi.y } else { lo.y },
+                if z { hi.z } else { lo.z },
+            )
+        };
+        // Each face counter-clockwise seen from outside.
+        let faces = [
+            [
+                c(false, false, false),
+                c(false, false, true),
+                c(false, true, true),
+                c(false, true, false),
+            ],
+            [
+                c(true, false, false),
+                c(true, true, false),
+                c(true, true, true),
+                c(true, false, true),
+            ],
+            [
+                c(false, false, false),
+                c(true, false, false),
+                c(true, false, true),
+                c(false, false, true),
+            ],
+            [
+                c(false, true, false),
+                c(false, true, true),
+                c(true, true, true),
+                c(true, true, false),
+            ],
+            [
+                c(false, false, false),
+                c(false, true, false),
+                c(true, true, false),
+                c(true, false, false),
+            ],
+            [
+                c(false, false, true),
+                c(true, false, true),
+                c(true, true, true),
+                c(false, true, true),
+            ],
+        ];
+        faces
+            .into_iter()
+            .map(|f| {
+                let mut v = f.to_vec();
+                if inward {
+                    v.reverse();
+                }
+                Polygon::new(v, 0, "box".into()).unwrap()
+            })
+            .collect()
+    }
+
+    fn inside(c: &Camera, lo: Vec3, hi: Vec3) -> bool {
+        c.eye.cmpgt(lo).all() && c.eye.cmplt(hi).all()
+    }
+
+    #[test]
+    fn a_closed_room_is_seen_from_inside_along_its_length() {
+        let (lo, hi) = (Vec3::new(-1.0, 0.0, -4.0), Vec3::new(3.0, 3.0, 6.0));
+        let scene = test_scene(cuboid(lo, hi, true));
+        let c = scene.camera_or_default();
+        assert!(inside(&c, lo, hi), "{c:?}");
+        assert!(c.validate().is_ok());
+        assert_eq!((c.target - c.eye).normalize(), Vec3::Z, "{c:?}");
+        assert_eq!(c.fov_y, ROOM_FOV);
+        // With furniture in the middle (a solid block, facing out), still from inside.
+        let mut polygons = cuboid(lo, hi, true);
+        polygons.extend(cuboid(
+            Vec3::new(0.0, 0.0, -1.0),
+            Vec3::new(2.0, 1.0, 2.0),
+            false,
+        ));
+        assert!(inside(&test_scene(polygons).camera_or_default(), lo, hi));
+    }
+
+    /// Every corner of the scene's bounds is in the picture.
+    fn frames_the_bounds(scene: &Scene, c: &Camera) {
+        let (lo, hi) = scene.bounds();
+        let view = (c.target - c.eye).normalize();
+        for i in 0..8 {
+            let corner = Vec3::select(glam::BVec3::new(i & 1 > 0, i & 2 > 0, i & 4 > 0), hi, lo);
+            let angle = view.angle_between(corner - c.eye).to_degrees();
+            assert!(angle <= 0.5 * c.fov_y + 0.01, "corner {corner} at {angle}°");
+        }
+    }
+
+    #[test]
+    fn an_open_scene_is_seen_whole_from_a_three_quarter_view_above() {
+        let (lo, hi) = (Vec3::new(-2.0, 0.0, -2.0), Vec3::new(2.0, 1.0, 2.0));
+        let floor = cuboid(lo, hi, true).remove(2);
+        let block = |x: f32| cuboid(Vec3::new(x, 0.0, -0.5), Vec3::new(x + 1.0, 1.0, 0.5), false);
+        let mut objects = vec![floor.clone()];
+        objects.extend(block(-1.5));
+        objects.extend(block(0.5));
+        // Two blocks on a floor, a solid block alone, a floor alone.
+        for polygons in [objects, block(0.0), vec![floor]] {
+            let scene = test_scene(polygons);
+            let c = scene.camera_or_default();
+            assert!(!inside(&c, lo, hi), "{c:?}");
+            assert_eq!(c.fov_y, OUTSIDE_FOV);
+            assert!(c.validate().is_ok());
+            frames_the_bounds(&scene, &c);
+            let view = c.eye - c.target;
+            assert!(
+                view.x > 0.0 && view.y > 0.0 && view.z < 0.0,
+                "three-quarter: {c:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_box_open_on_one_side_is_seen_through_its_opening() {
+        // A Cornell box whose open side faces +Z (as in the archive's OBJ): from the -Z side
+        // the picture would be the backs of its walls.
+        let (lo, hi) = (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 2.0, 1.0));
+        let mut polygons = cuboid(lo, hi, true);
+        polygons.remove(5);
+        let scene = test_scene(polygons);
+        let c = scene.camera_or_default();
+        assert!(c.eye.z > hi.z, "{c:?}");
+        frames_the_bounds(&scene, &c);
+        let bvh = Bvh::new(&scene);
+        let seen = fronts(&scene, &bvh, picture_rays(&c));
+        assert!(
+            seen.back as f32 <= 0.1 * seen.front as f32,
+            "{} backs",
+            seen.back
+        );
+    }
+}

@@ -1,0 +1,120 @@
+//! The energy balance of one shot, per colour channel: what the shooters carried against what
+//! their receivers received.
+//!
+//! A receiver's unshot energy grows by ρ × what reaches it, so what reached it is its gain over
+//! its reflectance, channel by channel. Summed over the receivers this is the power the shot
+//! delivered, which can never exceed the power it carried: the gathered form factors of a shot
+//! add up to at most 1 (reciprocity: Σ_j A_j F_j→s = A_s Σ_j F_s→j ≤ A_s). Point samples of the
+//! factor can break that (a patch centre next to a contact, a whole polygon whose centroid sees a
+//! receiver that most of the polygon does not, folded faces), and a shot that delivers more than
+//! it carried creates energy.
+
+use super::find_max_energy::EnergyTotals;
+use super::Shooter;
+use crate::scene::Scene;
+use glam::DVec3;
+
+/// One shot's books, in the units of [`EnergyTotals::energy`] (Σ L·A, RGB).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ShotBalance {
+    /// What the shooters carried, each channel by magnitude (an overshot shooter's negative
+    /// energy is shot too).
+    pub carried: DVec3,
+    /// What reached the receivers (their gains over their reflectance), signed.
+    pub received: DVec3,
+}
+
+impl ShotBalance {
+    /// The books of a shot of `shooters` (energies in the units of `EnergyTotals::energy`), from
+    /// each changed polygon's totals `before` the shot and `after` it. A shooter's own total
+    /// fell by what it carried, so its gain is after − before + carried.
+    pub fn measure(
+        scene: &Scene,
+        shooters: &[Shooter],
+        before: &[(usize, [f64; 3])],
+        after: &EnergyTotals,
+    ) -> ShotBalance {
+        let mut carried = DVec3::ZERO;
+        for s in shooters {
+            carried += s.energy.as_dvec3().abs();
+        }
+        let mut received = DVec3::ZERO;
+        for &(p, old) in before {
+            let mut gain = DVec3::from(after.energy[p]) - DVec3::from(old);
+            for s in shooters.iter().filter(|s| s.polygon == p) {
+                gain += s.energy.as_dvec3();
+            }
+            let kd = scene.material(&scene.polygons[p]).kd.as_dvec3();
+            for c in 0..3 {
+                // A black channel reflects nothing, so its gain says nothing of what arrived
+                // (and it is exactly zero: ρ·F·E with ρ = 0).
+                if kd[c] > 0.0 {
+                    received[c] += gain[c] / kd[c];
+                }
+            }
+        }
+        ShotBalance { carried, received }
+    }
+
+    /// The largest ratio, over the channels that carried anything, of what was received to what
+    /// was carried: at most 1 for a shot that creates no energy.
+    pub fn excess(&self) -> f64 {
+        (0..3)
+            .filter(|&c| self.carried[c] > 0.0)
+            .map(|c| self.received[c].abs() / self.carried[c])
+            .fold(0.0, f64::max)
+    }
+
+    /// Per channel, the factor that brings what was received down to what was carried (1 where
+    /// it is within).
+    pub fn scale_to_carried(&self) -> DVec3 {
+        DVec3::from_array(std::array::from_fn(|c| {
+            let r = self.received[c].abs();
+            if r > self.carried[c] && r > 0.0 {
+                self.carried[c] / r
+            } else {
+                1.0
+            }
+        }))
+    }
+
+    /// The power that reached the receivers, π·Σ, RGB mean (as `ShotRecord` reports powers).
+    pub fn received_power(&self) -> f64 {
+        std::f64::consts::PI * self.received.element_sum() / 3.0
+    }
+
+    /// The power the shooters carried, by magnitude, π·Σ, RGB mean.
+    pub fn carried_power(&self) -> f64 {
+        std::f64::consts::PI * self.carried.element_sum() / 3.0
+    }
+}
+
+/// A shot delivering more than this times what it carried is scaled back
+/// (`SolveOptions::conserve`): above the float noise of the atlas sums (a few 1e-6).
+pub const CORRECT_ABOVE: f64 = 1.001;
+
+/// The most a shot may deliver over what it carried before the solve calls it energy created:
+/// 0.5 %, the tolerance; a scaled-back shot lands within float noise of 1.
+pub const TOLERANCE: f64 = 1.005;
+
+/// The shooters of the pass that scales a shot back to what it carried (`balance`): the same
+/// shooters, from the same points, sending (factor − 1) times their energy, so that each
+/// receiver ends with factor × what the shot gave it; they own no texels (their unshot energy was
+/// already left at its remainder) and so clear nothing.
+///
+/// Why one factor for the whole shot: the books say how much too much arrived, not where. The
+/// receivers that got too much are mostly patches whose centres see the shooter while most of
+/// their area does not (a cabinet's front behind its doors, seen through the 6 mm gap between
+/// them); a second gathering could not tell them apart either.
+pub fn correction(shooters: &[Shooter], balance: &ShotBalance) -> Vec<Shooter> {
+    let factor = balance.scale_to_carried().as_vec3();
+    shooters
+        .iter()
+        .map(|s| Shooter {
+            energy: s.energy * (factor - glam::Vec3::ONE),
+            texels: [0; 4],
+            remainder: glam::Vec3::ZERO,
+            ..*s
+        })
+        .collect()
+}

@@ -1,0 +1,413 @@
+//! The solver's settings: the paper's, the accurate mode's (the default), and the configurations
+//! the benches compare; and the rules that pick a shot's item-buffer side and turn. The checks
+//! both backends share are [`SolveOptions::check`].
+
+use super::{SolveError, Tuning};
+
+/// The share of the emitted power below which a shot counts as small
+/// (`SolveOptions::small_shot`), as measured against the accuracy guard (docs/accuracy.md).
+pub const SMALL_SHOT: f32 = 0.01;
+
+/// Most shooters one reconstruction pass serves (`SolveOptions::shooters_per_pass`; the shader
+/// is compiled for that many). Eight item buffers take texture units 0 and 7 to 13 of the 16
+/// GL 3.0 promises, and the shooters' uniforms under 900 of its 1,024 fragment components,
+/// each array element counted as a whole vec4.
+pub const MAX_SHOOTERS_PER_PASS: u32 = 8;
+
+/// Which form factor the reconstruction pass evaluates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FormFactorKind {
+    /// The paper's point factor cos·cos/(π r²) times the shooter's area (blows up near it).
+    Point,
+    /// The exact differential-area-to-polygon factor of the shooter's cell (finite everywhere).
+    Polygon,
+}
+
+/// How the visibility pass sees the scene from the shooter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum VisibilityKind {
+    /// The paper's hemispherical projection: one render, curved edges drawn straight.
+    Hemisphere,
+    /// Five perspective renders (Cohen & Greenberg 1985): exact for straight edges.
+    Hemicube,
+}
+
+/// Stopping rule and pass parameters.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SolveOptions {
+    /// Stop when unshot power / emitted power falls to this. Range (0, 1); typical 0.01.
+    pub threshold: f32,
+    /// Stop after this many shots whatever the unshot fraction. Typical 10 000.
+    pub max_shots: u32,
+    /// Item-buffer side in pixels. Range 16..=max texture size; typical 512.
+    pub hemi_res: u32,
+    /// Longest triangle edge drawn by the visibility pass, in patch sizes; 0 draws the polygons
+    /// whole, as the paper does. Typical 2.
+    pub tessellation: f32,
+    /// Side, in patches, of the cells a polygon shoots from; 0 shoots the whole polygon from its
+    /// centroid, as the paper does. Typical 8.
+    pub shooter_cell: u32,
+    /// The same for emitters, whose first shot is the direct light (the sharpest shadows):
+    /// smaller cells there cost a few passes and fix partly shadowed receivers. Typical 1.
+    pub emitter_cell: u32,
+    pub form_factor: FormFactorKind,
+    pub visibility: VisibilityKind,
+    /// Robust visibility: a receiver is visible when its pixel holds its ID, or when the
+    /// polygon its pixel shows does not lie between it and the shooter (the two are on the same
+    /// side of that polygon's plane). The paper tests the nearest pixel's ID only, which misses
+    /// receivers smaller than a pixel and darkens joints where polygons meet.
+    pub robust_visibility: bool,
+    /// Speed switches for llvmpipe that leave the answer as it is (`tuning.rs`); the paper's mode
+    /// turns them all off, so that its passes are the paper's.
+    pub tuning: Tuning,
+    /// Beyond the paper, for fewer shots: each shooter also shoots the ambient light it will
+    /// still receive, and is left with that much negative unshot energy (`overshoot.rs`).
+    pub overshoot: bool,
+    /// Beyond the paper, for cheaper shots: a shot that carries less than `small_shot` of the
+    /// emitted power draws its item buffer at `small_hemi_res` per side instead of `hemi_res`
+    /// (0: every shot at `hemi_res`). Such shots carry little of the light, and the item
+    /// buffer's sampling errors of many small shots average out.
+    pub small_hemi_res: u32,
+    /// See `small_hemi_res`: a share of the emitted power, 0 to 1.
+    pub small_shot: f32,
+    /// Beyond the paper, for cheaper shots: with `small_hemi_res`, the small shots' side falls
+    /// further with the cube root of their share of the emitted power, down to this (0: every
+    /// small shot at `small_hemi_res`; see [`item_buffer_side`]).
+    pub min_hemi_res: u32,
+    /// Beyond the paper, for accuracy: each shot turns its item buffer about the shooter's
+    /// normal by its own angle ([`turn_of_shot`]), so that the pixel grids of successive shots do
+    /// not line up with the scene's edges, nor with one another: their aliasing averages out
+    /// instead of adding up. The paper (and every shot with this off) orients the item buffer by
+    /// the normal alone.
+    pub rotate_item_buffer: bool,
+    /// Beyond the paper, for cheaper shots: how many shooters one reconstruction pass serves.
+    /// Each step of the loop then takes the polygons with the most unshot power, up to
+    /// `shooters_per_pass` of them as long as all their shooters fit in one pass; each shooter
+    /// draws its own item buffer, and one reconstruction pass adds what all of them send. They
+    /// shoot simultaneously: each shoots the unshot energy it had when the step began, and keeps
+    /// what the others send it this pass as unshot energy. A polygon with more cells than that
+    /// shoots alone, its cells `shooters_per_pass` to a pass (they send each other nothing).
+    /// 1: one shooter per pass, as the paper.
+    pub shooters_per_pass: u32,
+    /// Beyond the paper, so that no shot creates energy: a shot whose receivers got more than it
+    /// carried (their gains over their reflectance, channel by channel; `balance.rs`) is scaled
+    /// back to what it carried by a second reconstruction pass. Gathering samples the form factor
+    /// at patch centres, and a patch whose centre sees the shooter while most of its area does
+    /// not would otherwise receive for all of it. Off in the paper's mode.
+    pub conserve: bool,
+    /// Beyond the paper, for fewer passes: only shots carrying at least this share of the
+    /// emitted power cut their cells where a touching polygon's plane crosses them
+    /// (`shooters::cuts_cells`). 0: every shot.
+    pub cut_above: f32,
+}
+
+impl SolveOptions {
+    /// The paper, literally: the whole polygon shoots from its centroid with the point form
+    /// factor, whole polygons drawn through the hemispherical projection, nearest-pixel IDs.
+    pub fn paper() -> Self {
+        SolveOptions {
+            threshold: 0.01,
+            max_shots: 10_000,
+            hemi_res: 512,
+            tessellation: 0.0,
+            shooter_cell: 0,
+            emitter_cell: 0,
+            form_factor: FormFactorKind::Point,
+            visibility: VisibilityKind::Hemisphere,
+            robust_visibility: false,
+            tuning: Tuning::none(),
+            overshoot: false,
+            small_hemi_res: 0,
+            small_shot: 0.0,
+            min_hemi_res: 0,
+            rotate_item_buffer: false,
+            shooters_per_pass: 1,
+            conserve: false,
+            cut_above: 0.0,
+        }
+    }
+
+    /// The default, beyond the paper (see paper_notes.md), fast and right on any scene:
+    ///
+    /// - what the paper's shots miss: cells of 4×4 patches shoot (emitters patch by patch), cut
+    ///   where a touching polygon's plane crosses them in the shots that carry at least
+    ///   [`CUT_ABOVE`] of the emitted power; the polygon form factor; a 256² hemicube (exact for
+    ///   straight edges) with the robust visibility test; no shot delivering more than it carried
+    ///   (`conserve`);
+    /// - fewer and cheaper shots: overshooting, the item buffer by shot (256² for the shots
+    ///   carrying over [`SMALL_SHOT`], falling with the cube root of the share from 128² to 16²)
+    ///   and turned shot by shot, [`MAX_SHOOTERS_PER_PASS`] shooters per reconstruction pass;
+    /// - the stopping rule at [`DEFAULT_THRESHOLD`], where every region of the Cornell box lands
+    ///   within 3 % of a path-traced reference (`tests/path_traced.rs`).
+    pub fn accurate() -> Self {
+        SolveOptions {
+            threshold: DEFAULT_THRESHOLD,
+            hemi_res: 256,
+            tessellation: 0.0,
+            shooter_cell: 4,
+            emitter_cell: 1,
+            form_factor: FormFactorKind::Polygon,
+            visibility: VisibilityKind::Hemicube,
+            robust_visibility: true,
+            tuning: Tuning::llvmpipe(),
+            overshoot: true,
+            small_hemi_res: 128,
+            small_shot: SMALL_SHOT,
+            min_hemi_res: 16,
+            rotate_item_buffer: true,
+            shooters_per_pass: MAX_SHOOTERS_PER_PASS,
+            conserve: true,
+            cut_above: CUT_ABOVE,
+            ..Self::paper()
+        }
+    }
+
+    /// The accurate mode's corrections without its speed options: one shooter per pass, every
+    /// shot at `hemi_res`, no overshooting, no turning, every shot's cells cut (the default as it
+    /// was before the speed options joined it; the references of the accuracy tests).
+    pub fn accurate_alone() -> Self {
+        SolveOptions {
+            overshoot: false,
+            small_hemi_res: 0,
+            small_shot: 0.0,
+            min_hemi_res: 0,
+            rotate_item_buffer: false,
+            shooters_per_pass: 1,
+            cut_above: 0.0,
+            ..Self::accurate()
+        }
+    }
+
+    /// Table 1's paper-faithful configuration: the paper's loop, one pass per shot with each
+    /// polygon shooting whole from its centroid, but with the polygon form factor, a
+    /// [`BENCH_HEMI_RES`]² hemicube with the robust test and `conserve` (the paper's point
+    /// factor creates energy between close polygons and never converges on the rooms). The
+    /// hemicube's side was chosen by measurement on the simple room: against the CPU solver's
+    /// exact ray casts the mean patch difference is 3.3 % at 64², 1.5 % at 128², 1.1 % at 192²
+    /// and at 256², while the visibility pass costs about twice as much at 256² as at 128².
+    pub fn paper_faithful(threshold: f32) -> Self {
+        SolveOptions {
+            threshold,
+            max_shots: 1_000_000,
+            hemi_res: BENCH_HEMI_RES,
+            shooter_cell: 0,
+            emitter_cell: 0,
+            ..Self::accurate_alone()
+        }
+    }
+
+    /// Whole polygons with every speed option (Table 1's fast row before the default took the
+    /// speed options): right only where every polygon is small next to the patch size, as in the
+    /// Table 1 rooms; on the Cornell box the short block's front stays black, since every whole
+    /// shooter's centroid lies behind its plane.
+    pub fn whole_polygons(threshold: f32) -> Self {
+        SolveOptions {
+            threshold,
+            max_shots: 1_000_000,
+            shooter_cell: 0,
+            emitter_cell: 0,
+            ..Self::accurate()
+        }
+    }
+
+    /// The default with another stopping rule and no shot limit (the benches).
+    pub fn default_with(threshold: f32) -> Self {
+        SolveOptions {
+            threshold,
+            max_shots: 1_000_000,
+            ..Self::accurate()
+        }
+    }
+
+    /// Check the settings both backends need; `max_side` is the largest texture side of the
+    /// GPU's driver (`None` on the CPU, which draws no item buffer).
+    pub fn check(&self, max_side: Option<i32>) -> Result<(), SolveError> {
+        if let Some(max) = max_side {
+            // The hemicube's item buffer is five faces wide.
+            let faces = super::visibility::item_buffer_size(self.visibility, 1).0 as i32;
+            if self.hemi_res < 16 || self.hemi_res as i64 > (max / faces) as i64 {
+                return Err(SolveError::HemiRes {
+                    res: self.hemi_res,
+                    max: max / faces,
+                });
+            }
+        } else if self.hemi_res < 16 {
+            return Err(SolveError::HemiRes {
+                res: self.hemi_res,
+                max: i32::MAX,
+            });
+        }
+        let small = self.small_hemi_res;
+        if small != 0 && !(16..=self.hemi_res).contains(&small) {
+            return Err(SolveError::SmallHemiRes {
+                small,
+                full: self.hemi_res,
+            });
+        }
+        let min = self.min_hemi_res;
+        if min != 0 && (small == 0 || !(16..=small).contains(&min)) {
+            return Err(SolveError::MinHemiRes { min, small });
+        }
+        let k = self.shooters_per_pass;
+        if !(1..=MAX_SHOOTERS_PER_PASS).contains(&k) {
+            return Err(SolveError::ShootersPerPass(k));
+        }
+        if !(self.tessellation >= 0.0 && self.tessellation.is_finite()) {
+            return Err(SolveError::Tessellation(self.tessellation));
+        }
+        Ok(())
+    }
+}
+
+/// The default stopping rule (unshot power / emitted power) of the accurate mode: the default
+/// command on the Cornell box lands within 3 % of a path-traced reference in every region there
+/// (1.8 % measured; at 0.01 the worst region was 2.9 %, too close to call).
+pub const DEFAULT_THRESHOLD: f32 = 0.003;
+
+/// The share of the emitted power from which a shot cuts its cells along touching polygons'
+/// planes (`SolveOptions::cut_above`): on the Cornell box every region stays within 2 % of the
+/// path-traced reference, and on the simple room a third of the passes of cutting every shot
+/// are left (1,399 against 4,146).
+pub const CUT_ABOVE: f32 = 0.003;
+
+/// The configurations `bench guard` compares: the paper-faithful one, each speed option alone
+/// on it, whole polygons with all of them, and the default.
+pub fn configurations(threshold: f32) -> Vec<(&'static str, SolveOptions)> {
+    let base = SolveOptions::paper_faithful(threshold);
+    let all = SolveOptions::accurate();
+    vec![
+        ("paper-faithful", base.clone()),
+        (
+            "overshoot",
+            SolveOptions {
+                overshoot: true,
+                ..base.clone()
+            },
+        ),
+        (
+            "item buffer by shot",
+            SolveOptions {
+                hemi_res: all.hemi_res,
+                small_hemi_res: all.small_hemi_res,
+                small_shot: all.small_shot,
+                min_hemi_res: all.min_hemi_res,
+                ..base.clone()
+            },
+        ),
+        (
+            "item buffer turned",
+            SolveOptions {
+                rotate_item_buffer: true,
+                ..base.clone()
+            },
+        ),
+        (
+            "shooters per pass",
+            SolveOptions {
+                shooters_per_pass: MAX_SHOOTERS_PER_PASS,
+                ..base
+            },
+        ),
+        ("whole polygons", SolveOptions::whole_polygons(threshold)),
+        ("default", SolveOptions::default_with(threshold)),
+    ]
+}
+
+/// Item-buffer side of [`SolveOptions::paper_faithful`].
+pub const BENCH_HEMI_RES: u32 = 128;
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        Self::accurate()
+    }
+}
+
+/// The item buffer's side for a shot that carries `share` of the emitted power (by magnitude:
+/// an overshot shooter's negative energy too): `hemi_res`, or `small_hemi_res` below
+/// `small_shot`; with `min_hemi_res`, below `small_shot` the side falls with the cube root of
+/// the share, to `min_hemi_res` at the least. Why the cube root: a shot's aliasing error grows
+/// with its power over its side, its cost with the side squared, and Σ error + λ Σ cost is
+/// least where side³ ∝ power.
+pub fn item_buffer_side(options: &SolveOptions, share: f64) -> u32 {
+    let o = options;
+    let small = share.abs() < o.small_shot as f64;
+    if o.small_hemi_res == 0 || !small {
+        o.hemi_res
+    } else if o.min_hemi_res == 0 {
+        o.small_hemi_res
+    } else {
+        let side = o.small_hemi_res as f64 * (share.abs() / o.small_shot as f64).cbrt();
+        (side.round() as u32).clamp(o.min_hemi_res, o.small_hemi_res)
+    }
+}
+
+/// The item buffer's turn for shot `shot` (0-based) when `SolveOptions::rotate_item_buffer` is
+/// on: the golden-ratio sequence of angles, which spreads any run of successive shots evenly
+/// around the circle, the same in every run (so that solves stay reproducible).
+pub fn turn_of_shot(shot: u32) -> f32 {
+    const GOLDEN: f64 = 0.618_033_988_749_894_8;
+    ((shot as f64 * GOLDEN).fract() * std::f64::consts::TAU) as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn successive_shots_turn_by_well_spread_angles_the_same_every_run() {
+        assert_eq!(turn_of_shot(0), 0.0);
+        assert_eq!(turn_of_shot(17), turn_of_shot(17));
+        // Any 10 successive shots leave no gap wider than about 2.4 × the even spacing.
+        for start in [0, 100, 5000] {
+            let mut angles: Vec<f32> = (start..start + 10).map(turn_of_shot).collect();
+            angles.sort_by(f32::total_cmp);
+            angles.push(angles[0] + std::f32::consts::TAU);
+            let widest = angles.windows(2).map(|w| w[1] - w[0]).fold(0.0, f32::max);
+            assert!(widest < 2.4 * std::f32::consts::TAU / 10.0, "{widest}");
+            assert!(angles
+                .iter()
+                .all(|a| (0.0..=2.0 * std::f32::consts::TAU).contains(a)));
+        }
+    }
+
+    #[test]
+    fn the_smallest_shots_get_sides_in_proportion_to_the_cube_root_of_their_power() {
+        let o = SolveOptions {
+            hemi_res: 256,
+            small_hemi_res: 128,
+            small_shot: 0.01,
+            min_hemi_res: 16,
+            ..SolveOptions::accurate()
+        };
+        // At and above the small shots' share: the full side.
+        assert_eq!(item_buffer_side(&o, 0.01), 256);
+        assert_eq!(item_buffer_side(&o, -0.5), 256);
+        // Just below: the small shots' side; an eighth of the share, half of it; by magnitude.
+        assert_eq!(item_buffer_side(&o, 0.009_999), 128);
+        assert_eq!(item_buffer_side(&o, 0.01 / 8.0), 64);
+        assert_eq!(item_buffer_side(&o, -0.01 / 64.0), 32);
+        // Never below the least, nor for a shot of nothing.
+        assert_eq!(item_buffer_side(&o, 1e-9), 16);
+        assert_eq!(item_buffer_side(&o, 0.0), 16);
+        // Falling with the share all the way.
+        let sides: Vec<u32> = (0..60)
+            .map(|k| item_buffer_side(&o, 0.0099 * 0.9f64.powi(k)))
+            .collect();
+        assert!(sides.windows(2).all(|w| w[1] <= w[0]), "{sides:?}");
+        // Without `min_hemi_res`, two sides only (the option as it was).
+        let two = SolveOptions {
+            min_hemi_res: 0,
+            ..o.clone()
+        };
+        assert_eq!(item_buffer_side(&two, 1e-9), 128);
+        assert_eq!(item_buffer_side(&two, 0.02), 256);
+        // Without `small_hemi_res`, one.
+        let one = SolveOptions {
+            small_hemi_res: 0,
+            ..o
+        };
+        assert_eq!(item_buffer_side(&one, 1e-9), 256);
+    }
+}
