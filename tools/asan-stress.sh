@@ -12,10 +12,11 @@
 #   4. the interactive viewer's window context under Xvfb (a screenshot run), VIEWER_RUNS times;
 #   5. the driver matrix, `radiosity check --drivers all`.
 # Every run must exit 0 and no log may hold a sanitizer report; the summary gives the runs, the
-# failures and the minutes. Exit status 0 only if all is clean.
+# crashes (a signal, or a sanitizer or heap report), the other failures (a failed test, an
+# error exit) and the minutes. Exit status 0 only if all is clean.
 #
 # Environment: ROUNDS (2), JOBS (2), THREAD_ROUNDS (20), EXIT_RUNS (200), SOLVES (6),
-# VIEWER_RUNS (2), LOG_DIR (target/asan/stress-<date>). Needs `rustup toolchain install nightly`, Mesa's EGL and
+# VIEWER_RUNS (2), RUN_TIMEOUT (seconds one run may take, 1800: a hang fails), LOG_DIR (target/asan/stress-<date>). Needs `rustup toolchain install nightly`, Mesa's EGL and
 # OSMesa drivers, and xvfb-run (the same packages as .ci/run).
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -24,6 +25,7 @@ ROUNDS=${ROUNDS:-2}
 JOBS=${JOBS:-2}
 THREAD_ROUNDS=${THREAD_ROUNDS:-20}
 EXIT_RUNS=${EXIT_RUNS:-200}
+RUN_TIMEOUT=${RUN_TIMEOUT:-1800}
 SOLVES=${SOLVES:-6}
 VIEWER_RUNS=${VIEWER_RUNS:-2}
 TRIPLE=x86_64-unknown-linux-gnu
@@ -40,31 +42,47 @@ export RUSTDOCFLAGS=-Zsanitizer=address
 
 started=$(date +%s)
 runs=0
+crashes=0
 failures=0
 
 # What AddressSanitizer and glibc's malloc print when they find the heap damaged.
 HEAP_REPORT='ERROR: AddressSanitizer|double free or corruption|corrupted (size|double-linked|unsorted|top)|free\(\): |malloc\(\): |malloc_consolidate\(\)|realloc\(\): '
 
-# verdict NAME EXIT: 0 if the run of NAME exited 0 and its log holds no sanitizer or heap report.
+# verdict NAME EXIT: 0 if the run of NAME exited 0 and its log holds no sanitizer or heap report;
+# 1 if it crashed (killed by a signal, or a sanitizer or heap report); 2 if it failed otherwise.
 verdict() {
     local log="$LOG_DIR/$1.log"
-    if [ "$2" -ne 0 ] || grep -Eq "$HEAP_REPORT" "$log"; then
-        echo "FAILED: $1 (exit $2), see $log"
+    if [ "$2" -eq 124 ]; then
+        echo "TIMED OUT: $1 (after $RUN_TIMEOUT s), see $log"
+        return 2
+    elif [ "$2" -ge 128 ] || grep -Eq "$HEAP_REPORT" "$log"; then
+        echo "CRASHED: $1 (exit $2), see $log"
         grep -E -m 5 "$HEAP_REPORT|panicked" "$log" | sed 's/^/    /'
         return 1
+    elif [ "$2" -ne 0 ]; then
+        echo "FAILED: $1 (exit $2), see $log"
+        grep -E -m 5 "panicked|^error" "$log" | sed 's/^/    /'
+        return 2
     fi
+}
+
+# count VERDICT: add one run with that verdict to the totals; the verdict again.
+count() {
+    runs=$((runs + 1))
+    case $1 in
+        1) crashes=$((crashes + 1)) ;;
+        2) failures=$((failures + 1)) ;;
+    esac
+    return "$1"
 }
 
 # run NAME COMMAND...: one run, its output in LOG_DIR/NAME.log, counted; 0 if clean.
 run() {
     local name=$1
     shift
-    "$@" >"$LOG_DIR/$name.log" 2>&1
-    local rc=$?
-    runs=$((runs + 1))
-    verdict "$name" $rc && return 0
-    failures=$((failures + 1))
-    return 1
+    timeout -k 10 "$RUN_TIMEOUT" "$@" >"$LOG_DIR/$name.log" 2>&1
+    verdict "$name" $?
+    count $?
 }
 
 echo "== building with AddressSanitizer into $TARGET_DIR (logs: $LOG_DIR)"
@@ -84,14 +102,14 @@ for round in $(seq "$ROUNDS"); do
     pids=()
     for t in "${tests[@]}"; do
         name="round$round-$(basename "$t")"
-        ("$t" >"$LOG_DIR/$name.log" 2>&1; verdict "$name" $?) &
+        (timeout -k 10 "$RUN_TIMEOUT" "$t" >"$LOG_DIR/$name.log" 2>&1; verdict "$name" $?) &
         pids+=($!)
         # At most JOBS binaries at once.
         while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do sleep 1; done
     done
     for pid in "${pids[@]}"; do
-        wait "$pid" || failures=$((failures + 1))
-        runs=$((runs + 1))
+        wait "$pid"
+        count $?
     done
 done
 
@@ -132,5 +150,5 @@ echo "== 5. the driver matrix"
 run "drivers" "$bin" check --drivers all --diff-dir "$scratch/diff" --json "$LOG_DIR/drivers.json"
 
 minutes=$(( ($(date +%s) - started + 30) / 60 ))
-echo "== $runs runs, $failures failed, $minutes minutes (logs: $LOG_DIR)"
-[ "$failures" -eq 0 ]
+echo "== $runs runs, $crashes crashed, $failures failed otherwise, $minutes minutes (logs: $LOG_DIR)"
+[ "$crashes" -eq 0 ] && [ "$failures" -eq 0 ]
