@@ -209,6 +209,8 @@ pub struct Solution {
     /// Seconds per named pass.
     pub pass_seconds: PassTimes,
     pub history: Vec<ShotRecord>,
+    /// Shots that reflected more than they carried and were scaled back (`SolveOptions::conserve`).
+    pub corrections: u32,
 }
 
 impl Solution {
@@ -220,6 +222,7 @@ impl Solution {
             patch_area: solver.patch_areas().to_vec(),
             shots: solver.shots(),
             passes: solver.passes(),
+            corrections: solver.ledger().corrections(),
             unshot_fraction: solver.unshot_fraction(),
             emitted_power: solver.emitted_power(),
             pass_seconds: solver.times().clone(),
@@ -352,7 +355,10 @@ pub fn render_smoothed(
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Stats {
     pub scene: String,
+    /// Faces of the file...
     pub faces: usize,
+    /// ...and the polygons they became (connected coplanar faces of one material merged).
+    pub polygons: usize,
     pub vertices: usize,
     pub lights: usize,
     pub patches: u64,
@@ -372,6 +378,8 @@ pub struct Stats {
     pub shots: u32,
     /// Visibility + reconstruction pass pairs (one per shooter cell of each shot).
     pub passes: u32,
+    /// Shots scaled back because they reflected more than they carried (`SolveOptions::conserve`).
+    pub corrections: u32,
     pub solve_seconds: f64,
     /// Worker threads of the CPU solver.
     pub threads: Option<usize>,
@@ -411,7 +419,8 @@ impl Stats {
         let (scene, layout) = (run.scene, run.layout);
         Stats {
             scene: run.scene_name,
-            faces: scene.polygons.len(),
+            faces: scene.faces,
+            polygons: scene.polygons.len(),
             vertices: scene.vertex_count,
             lights: scene.light_count(),
             patches: layout.patch_count(),
@@ -427,6 +436,7 @@ impl Stats {
             emit: run.emit.to_vec(),
             shots: solution.shots,
             passes: solution.passes,
+            corrections: solution.corrections,
             solve_seconds: solution.solve_seconds(),
             threads: run.threads,
             unshot_fraction: solution.unshot_fraction,

@@ -39,6 +39,9 @@ pub struct ViewArgs {
     /// Make the material NAME emit light, as for `solve` (radiance R,G,B, as `Ke`). Repeatable.
     #[arg(long, value_name = "NAME=R,G,B", value_parser = values::emission, allow_hyphen_values = true)]
     pub emit: Vec<Emission>,
+    /// Keep every face its own polygon, as for `solve`.
+    #[arg(long)]
+    pub keep_faces: bool,
     /// Size of the scene view, WxH pixels (the panel is added on the right).
     #[arg(long, value_parser = parse_size, default_value = "720x720", allow_hyphen_values = true)]
     pub size: (u32, u32),
@@ -83,6 +86,7 @@ pub fn run_view(args: &ViewArgs) -> Result<()> {
     viewer::run(ViewOptions {
         scene: args.scene.clone(),
         emit: args.emit.clone(),
+        keep_faces: args.keep_faces,
         mode: args.mode,
         threshold: args.threshold,
         patch_size: args.patch_size,

@@ -28,6 +28,8 @@ pub struct ViewOptions {
     pub scene: Option<PathBuf>,
     /// Emission overrides applied after loading (`--emit NAME=R,G,B`).
     pub emit: Vec<crate::scene::Emission>,
+    /// Keep every face its own polygon (`--keep-faces`).
+    pub keep_faces: bool,
     pub mode: ViewMode,
     /// Stop when unshot power / emitted power ≤ this. Range (0, 1); typical 0.01.
     pub threshold: f32,
