@@ -33,8 +33,45 @@ use crate::solver::{
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
-/// Patches when neither the caller nor the scene says otherwise.
+/// Patches when neither the caller nor the scene says otherwise, for a scene of few polygons.
 pub const DEFAULT_PATCHES: u32 = 4096;
+
+/// Scenes of more polygons than this get [`default_patches`] beyond [`DEFAULT_PATCHES`].
+pub const FEW_POLYGONS: usize = DEFAULT_PATCHES as usize / 8;
+
+/// The default patch budget: [`DEFAULT_PATCHES`], and for a scene of many polygons (more than
+/// [`FEW_POLYGONS`]) two more per polygon. Every polygon gets at least one patch whatever the
+/// size, so a fixed budget below the polygon count would make every face one flat texel, the
+/// largest walls included (a 40,000-triangle room came out one texel per face, patch size
+/// larger than the scene); two per polygon leave at least half the patches to the surfaces
+/// larger than a patch, in proportion to their area.
+pub fn default_patches(scene: &Scene) -> u32 {
+    let polygons = scene.polygons.len();
+    if polygons <= FEW_POLYGONS {
+        DEFAULT_PATCHES
+    } else {
+        let budget = DEFAULT_PATCHES as u64 + 2 * polygons as u64;
+        budget.min(u32::MAX as u64) as u32
+    }
+}
+
+/// Why the layout has the resolution it has, in words for the run's output.
+pub fn resolution_reason(scene: &Scene, patch_size: Option<f32>, patches: Option<u32>) -> String {
+    match (patch_size, patches, scene.patch_size) {
+        (Some(_), _, _) => "--patch-size".into(),
+        (None, Some(n), _) => format!("--patches {n}"),
+        (None, None, Some(_)) => "the scene's # patch-size".into(),
+        (None, None, None) if scene.polygons.len() <= FEW_POLYGONS => {
+            format!("the default budget of {DEFAULT_PATCHES} patches")
+        }
+        (None, None, None) => format!(
+            "the default budget for {} polygons: {DEFAULT_PATCHES} + 2 per polygon = {} patches, \
+             so that surfaces larger than a patch keep at least half of them",
+            scene.polygons.len(),
+            default_patches(scene)
+        ),
+    }
+}
 
 /// Which solver computes the radiosity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
@@ -173,13 +210,13 @@ pub fn load_scene_with(
 }
 
 /// The patch resolution: a patch size, else a patch count, else the scene's `# patch-size`,
-/// else [`DEFAULT_PATCHES`].
+/// else the default budget ([`default_patches`]).
 pub fn resolution(scene: &Scene, patch_size: Option<f32>, patches: Option<u32>) -> Resolution {
     match (patch_size, patches, scene.patch_size) {
         (Some(s), _, _) => Resolution::PatchSize(s),
         (None, Some(n), _) => Resolution::Patches(n),
         (None, None, Some(s)) => Resolution::PatchSize(s),
-        (None, None, None) => Resolution::Patches(DEFAULT_PATCHES),
+        (None, None, None) => Resolution::Patches(default_patches(scene)),
     }
 }
 
@@ -209,6 +246,8 @@ pub struct Solution {
     /// Seconds per named pass.
     pub pass_seconds: PassTimes,
     pub history: Vec<ShotRecord>,
+    /// Shots that reflected more than they carried and were scaled back (`SolveOptions::conserve`).
+    pub corrections: u32,
 }
 
 impl Solution {
@@ -220,6 +259,7 @@ impl Solution {
             patch_area: solver.patch_areas().to_vec(),
             shots: solver.shots(),
             passes: solver.passes(),
+            corrections: solver.ledger().corrections(),
             unshot_fraction: solver.unshot_fraction(),
             emitted_power: solver.emitted_power(),
             pass_seconds: solver.times().clone(),
@@ -352,7 +392,10 @@ pub fn render_smoothed(
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Stats {
     pub scene: String,
+    /// Faces of the file...
     pub faces: usize,
+    /// ...and the polygons they became (connected coplanar faces of one material merged).
+    pub polygons: usize,
     pub vertices: usize,
     pub lights: usize,
     pub patches: u64,
@@ -372,6 +415,8 @@ pub struct Stats {
     pub shots: u32,
     /// Visibility + reconstruction pass pairs (one per shooter cell of each shot).
     pub passes: u32,
+    /// Shots scaled back because they reflected more than they carried (`SolveOptions::conserve`).
+    pub corrections: u32,
     pub solve_seconds: f64,
     /// Worker threads of the CPU solver.
     pub threads: Option<usize>,
@@ -411,7 +456,8 @@ impl Stats {
         let (scene, layout) = (run.scene, run.layout);
         Stats {
             scene: run.scene_name,
-            faces: scene.polygons.len(),
+            faces: scene.faces,
+            polygons: scene.polygons.len(),
             vertices: scene.vertex_count,
             lights: scene.light_count(),
             patches: layout.patch_count(),
@@ -427,6 +473,7 @@ impl Stats {
             emit: run.emit.to_vec(),
             shots: solution.shots,
             passes: solution.passes,
+            corrections: solution.corrections,
             solve_seconds: solution.solve_seconds(),
             threads: run.threads,
             unshot_fraction: solution.unshot_fraction,

@@ -142,6 +142,7 @@ fn lamp(ke: [f32; 3]) -> LoadOptions {
             material: "lamp".into(),
             ke,
         }],
+        ..Default::default()
     }
 }
 

@@ -225,6 +225,7 @@ fn scene_of(polygons: Vec<Polygon>) -> Scene {
         camera: None,
         patch_size: None,
         skipped_degenerate: 0,
+        faces: 0,
     }
 }
 

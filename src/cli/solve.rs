@@ -47,8 +47,8 @@ pub struct SolveArgs {
         allow_hyphen_values = true,
     )]
     pub max_shots: u32,
-    /// Aim at about this many patches, 1 to 1,048,576 (default 4096 unless the scene sets a
-    /// patch size).
+    /// Aim at about this many patches, 1 to 1,048,576 (default, unless the scene sets a patch
+    /// size: 4096, plus 2 per polygon on scenes of more than 512 polygons).
     #[arg(
         long,
         conflicts_with = "patch_size",
@@ -134,6 +134,10 @@ pub struct SolveArgs {
     /// to 1e15; 0,0,0 turns an emitter off). Repeatable.
     #[arg(long, value_name = "NAME=R,G,B", value_parser = values::emission, allow_hyphen_values = true)]
     pub emit: Vec<Emission>,
+    /// Keep every face of the OBJ its own polygon (as a `# keep-faces` line in the file does);
+    /// by default connected coplanar faces of one material become one polygon.
+    #[arg(long)]
+    pub keep_faces: bool,
     /// Camera position, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<Vec3>,
@@ -284,7 +288,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     // First: a signal from here on removes what this run staged and exits 1.
     display::output_set::exit_on_signals()?;
     check_solve_settings(args.threshold(), args.patch_size, args.patches)?;
-    let (scene, scene_path) = load_scene(args.scene.as_deref(), &args.emit)?;
+    let (scene, scene_path) = load_scene(args.scene.as_deref(), &args.emit, args.keep_faces)?;
     let scene_name = scene_path.display().to_string();
     // Without a `# camera` line, chosen by casting rays into the scene: once.
     let camera = camera_from(args, scene.camera_or_default());
@@ -309,6 +313,12 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     let set = OutputSet::begin(&out_dir)?;
 
     let layout = pipeline::lay_out(&scene, args.patch_size, args.patches)?;
+    eprintln!(
+        "patches: {} at patch size {:.4}, from {}",
+        layout.patch_count(),
+        layout.patch_size,
+        pipeline::resolution_reason(&scene, args.patch_size, args.patches)
+    );
     // A patch size (from the flag or the scene) can ask for more patches than --patches may.
     if layout.patch_count() > values::MAX_PATCHES as u64 {
         bail!(
@@ -329,9 +339,9 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         info.version
     );
     eprintln!(
-        "scene {}: {} faces, {} vertices, {} lights, {} patches (patch size {:.4}, atlas {}x{})",
+        "scene {}: {}, {} vertices, {} lights, {} patches (patch size {:.4}, atlas {}x{})",
         scene.name,
-        scene.polygons.len(),
+        faces_and_polygons(&scene),
         scene.vertex_count,
         scene.light_count(),
         layout.patch_count(),
@@ -440,9 +450,14 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
 
 /// The scene with the `--emit` overrides applied (`solve` and `view`); an override the scene
 /// cannot take names the flag.
-pub(crate) fn load_scene(path: Option<&Path>, emit: &[Emission]) -> Result<(Scene, PathBuf)> {
+pub(crate) fn load_scene(
+    path: Option<&Path>,
+    emit: &[Emission],
+    keep_faces: bool,
+) -> Result<(Scene, PathBuf)> {
     let options = LoadOptions {
         emit: emit.to_vec(),
+        keep_faces,
     };
     pipeline::load_scene_with(path, &options).map_err(|e| match e {
         SceneError::Emit { .. } => anyhow::anyhow!("{e} (set with --emit)"),
@@ -529,4 +544,13 @@ fn progress_bar(_threshold: f32) -> indicatif::ProgressBar {
             .progress_chars("=> "),
     );
     bar
+}
+
+/// `N faces`, or `N faces → M polygons` when the reader merged coplanar faces.
+fn faces_and_polygons(scene: &Scene) -> String {
+    if scene.faces == scene.polygons.len() {
+        format!("{} faces", scene.faces)
+    } else {
+        format!("{} faces → {} polygons", scene.faces, scene.polygons.len())
+    }
 }

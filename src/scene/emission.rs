@@ -21,6 +21,9 @@ pub struct LoadOptions {
     /// Emission overrides, applied in order after loading and before the check that something
     /// emits.
     pub emit: Vec<Emission>,
+    /// Keep every face its own polygon (`--keep-faces`), as a scene's `# keep-faces` line does;
+    /// otherwise connected coplanar faces of one material are merged (`merge.rs`).
+    pub keep_faces: bool,
 }
 
 /// An emission override the scene cannot take.

@@ -1,5 +1,6 @@
 //! The two comment lines of an OBJ that the program reads:
-//! `# camera eye X Y Z target X Y Z up X Y Z fov DEG` and `# patch-size S`.
+//! `# camera eye X Y Z target X Y Z up X Y Z fov DEG`, `# patch-size S` and `# keep-faces` (every
+//! face its own polygon: the Table 1 rooms, whose face counts are the paper's).
 
 use super::error::SceneError;
 use super::files::shown_path;
@@ -12,6 +13,8 @@ use std::path::Path;
 pub(super) struct Header {
     pub camera: Option<Camera>,
     pub patch_size: Option<f32>,
+    /// `# keep-faces`: every face its own polygon (no merging of coplanar faces).
+    pub keep_faces: bool,
 }
 
 /// The words a camera line is made of: a comment that begins `# camera` and goes on with
@@ -45,6 +48,8 @@ pub(super) fn parse_header(path: &Path, text: &str) -> Result<Header, SceneError
                 .validate()
                 .map_err(|e| bad(&format!("bad `# camera` line: {e}")))?;
             header.camera = Some(camera);
+        } else if line == "# keep-faces" {
+            header.keep_faces = true;
         } else if let Some(rest) = line.strip_prefix("# patch-size") {
             let s: f32 = rest
                 .trim()

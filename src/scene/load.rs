@@ -74,6 +74,18 @@ pub(super) fn parse_scene(
             names.join(", ")
         ));
     }
+    let faces = polygons.len();
+    if !(options.keep_faces || header.keep_faces) {
+        let size = scene_size(&polygons);
+        let report = super::merge::merge_coplanar(&mut polygons, size);
+        if report.polygons < report.faces {
+            messages.push(format!(
+                "note: {shown_name}: {} faces → {} polygons (connected coplanar faces of one \
+                 material merged; --keep-faces keeps them apart)",
+                report.faces, report.polygons
+            ));
+        }
+    }
     if let Some(m) = overlap_warning(&shown_name, &polygons) {
         messages.push(m);
     }
@@ -96,10 +108,20 @@ pub(super) fn parse_scene(
         camera: header.camera,
         patch_size: header.patch_size,
         skipped_degenerate: built.skipped,
+        faces,
     };
     scene.apply_emission(&shown_name, &options.emit)?;
     scene.check_emits(&shown_name)?;
     Ok(scene)
+}
+
+/// The diagonal of the polygons' bounding box.
+fn scene_size(polygons: &[Polygon]) -> f32 {
+    let all: Vec<Vec3> = polygons
+        .iter()
+        .flat_map(|p| p.vertices.iter().copied())
+        .collect();
+    crate::geometry::bounds(&all).map_or(0.0, |(lo, hi)| (hi - lo).length())
 }
 
 /// Outside this range f32 loses the scene: at 1e-18 areas underflow to zero, at 1e±9 a shot

@@ -9,6 +9,7 @@ mod framing;
 mod header;
 mod libraries;
 mod load;
+pub mod merge;
 mod mtl;
 mod obj;
 mod overlap;
@@ -220,6 +221,9 @@ pub struct Scene {
     pub patch_size: Option<f32>,
     /// Polygons dropped while loading because they had (near) zero area.
     pub skipped_degenerate: usize,
+    /// Faces read (after zero-area ones were skipped, non-planar ones split and duplicates
+    /// dropped), before connected coplanar faces were merged into `polygons`.
+    pub faces: usize,
 }
 
 /// A scene of `polygons` with one grey material and nothing else (unit tests of the scene
@@ -238,6 +242,7 @@ pub(crate) fn test_scene(polygons: Vec<Polygon>) -> Scene {
         camera: None,
         patch_size: None,
         skipped_degenerate: 0,
+        faces: 0,
     }
 }
 

@@ -80,11 +80,16 @@ impl Overshoot {
     /// |unshot − remainder × area| (π·Σ|·| over RGB, averaged), above zero. Not the most unshot
     /// power: a polygon left with its remainder would shoot nothing, and be picked again and
     /// again. Ties go to the lower ID. The `count` such polygons, most first (one in the paper's
-    /// loop).
+    /// loop). A polygon that has received nothing yet is not picked: its shot would be all
+    /// prediction (a floor under a small lamp would shoot the ambient light before the lamp lit
+    /// it, and a solve could start with more unshot power than the emitters give).
     pub fn find_max_energy(&self, totals: &EnergyTotals, count: usize) -> Vec<usize> {
         let all = sum(totals);
         let power = |p: usize| {
             let e = DVec3::from_array(totals.energy[p]);
+            if e == DVec3::ZERO {
+                return 0.0;
+            }
             let shot = e - self.remainder_with(all, totals, p) * self.areas[p];
             std::f64::consts::PI * shot.abs().element_sum() / 3.0
         };
@@ -127,5 +132,37 @@ mod tests {
             );
             assert!(overshoot.interreflection[c] > 1.0);
         }
+    }
+
+    /// Before the light has shot, only the light may: a polygon that has received nothing would
+    /// shoot predicted ambient light alone (a floor far larger than its lamp would go first).
+    #[test]
+    fn a_polygon_that_received_nothing_is_not_picked() {
+        let scene = crate::scene::bundled::find("cornell")
+            .unwrap()
+            .load()
+            .unwrap();
+        let n = scene.polygons.len();
+        // Every polygon's area huge next to the light's patch: its prediction outweighs the light.
+        let overshoot = Overshoot::new(&scene, &vec![1; n]);
+        let mut totals = EnergyTotals {
+            energy: vec![[0.0; 3]; n],
+            patches: vec![1_000; n],
+        };
+        let light = scene
+            .polygons
+            .iter()
+            .position(|p| scene.material(p).is_emitter())
+            .unwrap();
+        totals.energy[light] = [1e-3; 3];
+        let big = Overshoot {
+            areas: vec![1e6; n],
+            ..overshoot
+        };
+        assert_eq!(big.find_max_energy(&totals, n), vec![light]);
+        // Once a wall has received, it competes by its shot (unshot plus predicted ambient).
+        let wall = (light + 1) % n;
+        totals.energy[wall] = [1e-6; 3];
+        assert_eq!(big.find_max_energy(&totals, n).len(), 2);
     }
 }

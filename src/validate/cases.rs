@@ -60,6 +60,7 @@ fn scene(name: &str, faces: Vec<Face>) -> Scene {
         camera: None,
         patch_size: None,
         skipped_degenerate: 0,
+        faces: 0,
     }
 }
 

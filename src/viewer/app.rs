@@ -88,6 +88,7 @@ struct Viewer {
 pub fn run(options: ViewOptions) -> Result<()> {
     let load = crate::scene::LoadOptions {
         emit: options.emit.clone(),
+        keep_faces: options.keep_faces,
     };
     let (scene, _) = crate::pipeline::load_scene_with(options.scene.as_deref(), &load)?;
     let event_loop = EventLoop::new().map_err(|e| {
@@ -130,9 +131,10 @@ pub fn run(options: ViewOptions) -> Result<()> {
         None,
         Some(painter.max_texture_side()),
     );
-    let patch_size = match options.patch_size.or(scene.patch_size) {
-        Some(s) => s,
-        None => PatchLayout::try_new(&scene, Resolution::Patches(options.patches))?.patch_size,
+    let resolution = crate::pipeline::resolution(&scene, options.patch_size, options.patches);
+    let patch_size = match resolution {
+        Resolution::PatchSize(s) => s,
+        Resolution::Patches(_) => PatchLayout::try_new(&scene, resolution)?.patch_size,
     };
     let controls = Controls {
         running: options.screenshot.is_some(),

@@ -162,6 +162,7 @@ fn as_loaded(b: &Builder, patch_size: f32) -> Scene {
     }
     Scene {
         name: String::new(),
+        faces: polygons.len(),
         polygons,
         materials,
         vertex_count,

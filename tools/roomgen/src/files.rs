@@ -44,6 +44,12 @@ pub fn obj_text(b: &Builder, room: Room, h: &Header) -> String {
     let _ = writeln!(s, "# The counts are made exact by: {}.", h.tuning);
     let _ = writeln!(s, "# camera {}", room.camera());
     let _ = writeln!(s, "# patch-size {}", h.patch_size);
+    // Table 1 counts faces: the reader's merging of coplanar faces would change them.
+    let _ = writeln!(
+        s,
+        "# Every face is its own polygon, as in Table 1 (the next line turns off the merging of coplanar faces)."
+    );
+    let _ = writeln!(s, "# keep-faces");
     let _ = writeln!(s, "mtllib {}", h.mtl_file);
     let mut base = 1;
     for p in &b.pieces {
