@@ -16,6 +16,9 @@ use super::find_max_energy::EnergyTotals;
 use crate::scene::Scene;
 use glam::{DVec3, Vec3};
 
+/// The largest mean reflectance the ambient estimate uses (see `Overshoot::new`).
+const MAX_MEAN_REFLECTANCE: f64 = 0.8;
+
 /// What the ambient estimate needs of the scene, computed once per solve.
 #[derive(Clone, Debug)]
 pub struct Overshoot {
@@ -49,9 +52,12 @@ impl Overshoot {
         } else {
             DVec3::ZERO
         };
-        // Reflectances are below 1 (the loader checks); the clamp keeps a white-walled furnace
-        // finite.
-        let interreflection = (DVec3::ONE - mean.min(DVec3::splat(0.95))).recip();
+        // The estimate assumes a closed room; in an open one (a Cornell box without its front,
+        // a courtyard) less comes back. With white walls (Kd 1, as a published Cornell box has)
+        // 1 / (1 − ρ̄) is 20 or more and each shot's overshoot swings far past the answer: the
+        // unshot power by magnitude grew past twice the emitted power. At most 5 (ρ̄ ≤ 0.8) keeps
+        // every scene's swings bounded and does not change rooms of ordinary reflectance.
+        let interreflection = (DVec3::ONE - mean.min(DVec3::splat(MAX_MEAN_REFLECTANCE))).recip();
         Overshoot {
             reflectance,
             interreflection,
@@ -132,6 +138,28 @@ mod tests {
             );
             assert!(overshoot.interreflection[c] > 1.0);
         }
+    }
+
+    /// White walls (Kd 1, as a published Cornell box has) would make the closed-room estimate
+    /// infinite; it stays at most 1 / (1 − 0.8).
+    #[test]
+    fn the_ambient_estimate_stays_bounded_with_white_walls() {
+        let mut scene = crate::scene::bundled::find("cornell")
+            .unwrap()
+            .load()
+            .unwrap();
+        for m in &mut scene.materials {
+            m.kd = Vec3::ONE;
+        }
+        let overshoot = Overshoot::new(&scene, &vec![1; scene.polygons.len()]);
+        assert!(
+            (overshoot.interreflection - DVec3::splat(5.0))
+                .abs()
+                .max_element()
+                < 1e-9,
+            "{}",
+            overshoot.interreflection
+        );
     }
 
     /// Before the light has shot, only the light may: a polygon that has received nothing would
