@@ -75,20 +75,10 @@ pub fn unoccluded(scene: &Scene, a: Vec3, b: Vec3, skip_a: usize, skip_b: usize)
     })
 }
 
-/// The centres of polygon `p`'s patches: (atlas texel index, world position).
-pub fn patch_centres(layout: &PatchLayout, p: usize) -> Vec<(usize, Vec3)> {
-    let lm = &layout.lightmaps[p];
-    let mut out = Vec::new();
-    for t in 0..lm.h {
-        for s in 0..lm.w {
-            let at = (lm.y + t) as usize * layout.atlas_width as usize + (lm.x + s) as usize;
-            if layout.owner[at] == p as u32 + 1 {
-                out.push((at, lm.world(s as f32 + 0.5, t as f32 + 0.5)));
-            }
-        }
-    }
-    out
-}
+/// The centres of polygon `p`'s patches: (atlas texel index, world position). Not every test
+/// binary uses it.
+#[allow(unused_imports)]
+pub use gpu_radiosity::validate::path_traced::patch_centres;
 
 /// Assert that `value` reads as `quoted`, the figure README.md or paper_notes.md prints for it,
 /// when written with the quoted text's precision: as many decimals, or for a quote such as
