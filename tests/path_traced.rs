@@ -23,7 +23,7 @@ fn regions_against_the_reference(
     let scene = load("cornell");
     let layout = PatchLayout::new(&scene, Resolution::Patches(CORNELL_PATCHES));
     let atlas = {
-        let (_lock, ctx) = serial_context();
+        let ctx = context();
         let mut solver = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
         solver.solve(|_| {}).unwrap();
         solver.radiosity_atlas()

@@ -18,7 +18,7 @@ fn no_speed_option_moves_the_simple_room_away_from_the_exhaustive_solution() {
     let (reference, shots) =
         guard::reference(&scene, &layout, &SolveOptions::paper_faithful(0.01), 0).unwrap();
     println!("reference: {shots} shots");
-    let (_lock, ctx) = serial_context();
+    let ctx = context();
     let mut differences = Vec::new();
     for (name, options) in configurations(0.01) {
         let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
@@ -92,7 +92,7 @@ fn the_cpu_twin_follows_the_speed_options() {
         ..SolveOptions::accurate()
     };
     let gpu_atlas = {
-        let (_lock, ctx) = serial_context();
+        let ctx = context();
         let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
         gpu.solve(|_| {}).unwrap();
         (gpu.radiosity_atlas(), gpu.shots())
@@ -377,7 +377,7 @@ fn the_shooters_of_one_pass_shoot_simultaneously() {
         from(&mut cpu(1), &start, Some(0)),
         from(&mut cpu(1), &start, Some(1)),
     );
-    let (_lock, ctx) = serial_context();
+    let ctx = context();
     let gpu = |k| GpuSolver::new(&ctx, &scene, &layout, whole_polygons(k)).unwrap();
     check(
         "GPU",
@@ -397,7 +397,7 @@ fn a_pass_with_idle_slots_adds_what_a_full_one_adds() {
     let scene = load("cornell");
     let layout = PatchLayout::new(&scene, Resolution::Patches(600));
     let start = after_the_lights_shot(&scene, &layout);
-    let (_lock, ctx) = serial_context();
+    let ctx = context();
     let shoot_two = |k: u32| {
         let mut gpu = GpuSolver::new(&ctx, &scene, &layout, whole_polygons(k)).unwrap();
         gpu.load_atlases(&start.0, &start.1).unwrap();

@@ -27,16 +27,6 @@ pub fn context() -> GlContext {
     GlContext::headless(BackendChoice::Auto).expect("a GL 3.0 context (Mesa llvmpipe)")
 }
 
-/// A GL context taken while holding a lock that keeps a test binary's GL-heavy tests from
-/// running at the same time: tests/validation.rs and tests/tuning.rs have each died with SIGSEGV
-/// while their tests ran in parallel, each with its own EGL context on llvmpipe
-/// (docs/perf-log.md); the cause is not found yet. Hold the guard as long as the context.
-pub fn serial_context() -> (std::sync::MutexGuard<'static, ()>, GlContext) {
-    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    let guard = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-    (guard, context())
-}
-
 /// Distance along the ray to the polygon (either side), if it is hit in front of the origin.
 pub fn hit(polygon: &Polygon, origin: Vec3, dir: Vec3) -> Option<f32> {
     let denom = dir.dot(polygon.normal);
