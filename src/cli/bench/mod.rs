@@ -1,7 +1,7 @@
 //! `radiosity bench`: timed runs of the solvers.
 //!
 //! - `table1` (`table1.rs`): the paper's Table 1 on this machine, both rooms and both solvers,
-//!   the paper-faithful configuration beside the fast one.
+//!   the paper-faithful configuration beside the default and whole polygons.
 //! - `guard` (`guard.rs`): every speed option, its time beside its accuracy: on the simple room
 //!   against the exhaustive CPU solution (`validate::guard`), on the Cornell box against the
 //!   path-traced reference (`validate::path_traced`).
