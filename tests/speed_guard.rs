@@ -32,7 +32,10 @@ fn no_speed_option_moves_the_simple_room_away_from_the_exhaustive_solution() {
         differences.push((name, gpu.shots(), d));
     }
     let (_, base_shots, base) = differences[0];
-    for &(name, shots, d) in &differences[1..] {
+    // The reference shoots whole polygons, as the paper-faithful configuration and the speed
+    // options alone do; the default shoots in cells, a different discretisation of the same
+    // answer, so it is judged by the bound alone (and on the Cornell box by the path tracer).
+    for &(name, shots, d) in &differences[1..differences.len() - 1] {
         assert!(
             d <= base,
             "{name}: {:.3} % from the exhaustive solution, the paper-faithful configuration {:.3} %",
@@ -40,20 +43,20 @@ fn no_speed_option_moves_the_simple_room_away_from_the_exhaustive_solution() {
             100.0 * base
         );
         // Overshooting saves time by taking fewer shots (the others by cheaper ones).
-        if name == "overshoot" || name == "fast" {
+        if name == "overshoot" || name == "whole polygons" {
             assert!(
                 shots < base_shots,
                 "{name}: {shots} shots, paper-faithful {base_shots}"
             );
         }
     }
-    let (name, _, fast) = *differences.last().unwrap();
-    assert_eq!(name, "fast");
-    assert!(
-        fast <= guard::MEAN_DIFFERENCE_BOUND,
-        "fast: {:.3} %",
-        100.0 * fast
-    );
+    for &(name, _, d) in &differences[differences.len() - 2..] {
+        assert!(
+            d <= guard::MEAN_DIFFERENCE_BOUND,
+            "{name}: {:.3} %",
+            100.0 * d
+        );
+    }
     // README ("Table 1") and docs/accuracy.md quote these.
     let quoted = [
         ("paper-faithful", "1.86", 1352),
@@ -61,7 +64,7 @@ fn no_speed_option_moves_the_simple_room_away_from_the_exhaustive_solution() {
         ("item buffer by shot", "1.67", 1395),
         ("item buffer turned", "1.82", 1360),
         ("shooters per pass", "1.86", 1354),
-        ("fast", "1.29", 912),
+        ("whole polygons", "1.29", 912),
     ];
     for ((name, d_quoted, shots_quoted), &(got, shots, d)) in quoted.iter().zip(&differences) {
         assert_eq!(*name, got);
