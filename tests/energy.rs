@@ -96,10 +96,16 @@ fn per_shot_totals_equal_a_full_recount() {
         for _ in 0..12 {
             let g = gpu.step().unwrap().unwrap();
             let full = EnergyTotals::sum(&gpu.unshot_atlas(), n, Some(&areas));
-            assert_eq!(g.unshot_fraction, full.total_magnitude() / gpu.emitted_power());
+            assert_eq!(
+                g.unshot_fraction,
+                full.total_magnitude() / gpu.emitted_power()
+            );
             let c = cpu.step().unwrap().unwrap();
             let full = EnergyTotals::sum(&cpu.unshot_atlas(), n, Some(cpu.patch_areas()));
-            assert_eq!(c.unshot_fraction, full.total_magnitude() / cpu.emitted_power());
+            assert_eq!(
+                c.unshot_fraction,
+                full.total_magnitude() / cpu.emitted_power()
+            );
         }
     }
 }
