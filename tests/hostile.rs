@@ -224,17 +224,7 @@ fn a_non_planar_face_is_split_without_creating_energy() {
     let d = tmp.path();
     write(d, "ok.mtl", LAMP_MTL);
     let n = 10_000;
-    let mut s = lamp_over_floor("mtllib ok.mtl", 0);
-    s += "o crown\nusemtl floor\n";
-    for k in 0..n {
-        let a = std::f64::consts::TAU * k as f64 / n as f64;
-        s += &format!("v {} {} {}\n", a.cos(), 0.5 * (k % 2) as f64, a.sin());
-    }
-    s += "f";
-    for k in 0..n {
-        s += &format!(" {}", 4 + n - k);
-    }
-    s += "\n";
+    let s = lamp_over_floor("mtllib ok.mtl", 0) + &zigzag_crown(4, n);
     let crown = write(d, "crown.obj", &s);
     let scene = load_obj(Path::new(&crown)).unwrap();
     assert!(scene.polygons.len() > 1000);

@@ -123,19 +123,10 @@ fn every_shot_of_a_non_planar_face_is_within_its_bound_on_both_solvers() {
     )
     .unwrap();
     let n = 10_000;
-    let mut s = String::from(
+    let s = String::from(
         "mtllib crown.mtl\nusemtl lamp\nv -0.5 3 -0.5\nv 0.5 3 -0.5\nv 0.5 3 0.5\nv -0.5 3 0.5\n\
-         f 1 2 3 4\no crown\nusemtl floor\n",
-    );
-    for k in 0..n {
-        let a = std::f64::consts::TAU * k as f64 / n as f64;
-        s += &format!("v {} {} {}\n", a.cos(), 0.5 * (k % 2) as f64, a.sin());
-    }
-    s += "f";
-    for k in 0..n {
-        s += &format!(" {}", 4 + n - k);
-    }
-    s += "\n";
+         f 1 2 3 4\n",
+    ) + &zigzag_crown(4, n);
     std::fs::write(d.join("crown.obj"), s).unwrap();
     let scene = load_obj(&d.join("crown.obj")).unwrap();
     assert!(scene.polygons.len() > 1000, "{}", scene.polygons.len());

@@ -317,7 +317,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         "patches: {} at patch size {:.4}, from {}",
         layout.patch_count(),
         layout.patch_size,
-        pipeline::resolution_reason(&scene, args.patch_size, args.patches)
+        pipeline::resolution_and_reason(&scene, args.patch_size, args.patches).1
     );
     // A patch size (from the flag or the scene) can ask for more patches than --patches may.
     if layout.patch_count() > values::MAX_PATCHES as u64 {

@@ -112,18 +112,27 @@ fn sum(totals: &EnergyTotals) -> DVec3 {
 mod tests {
     use super::*;
 
-    #[test]
-    fn the_remainder_is_minus_reflectance_times_the_others_ambient() {
-        let scene = crate::scene::bundled::find("cornell")
+    fn cornell() -> Scene {
+        crate::scene::bundled::find("cornell")
             .unwrap()
             .load()
-            .unwrap();
+            .unwrap()
+    }
+
+    /// No unshot energy anywhere yet, `patches` per polygon.
+    fn no_energy(n: usize, patches: u32) -> EnergyTotals {
+        EnergyTotals {
+            energy: vec![[0.0; 3]; n],
+            patches: vec![patches; n],
+        }
+    }
+
+    #[test]
+    fn the_remainder_is_minus_reflectance_times_the_others_ambient() {
+        let scene = cornell();
         let n = scene.polygons.len();
         let overshoot = Overshoot::new(&scene, &vec![1; n]);
-        let mut totals = EnergyTotals {
-            energy: vec![[0.0; 3]; n],
-            patches: vec![1; n],
-        };
+        let mut totals = no_energy(n, 1);
         // Only polygon 0 has unshot energy: it overshoots nothing of its own.
         totals.energy[0] = [2.0, 2.0, 2.0];
         assert_eq!(overshoot.remainder(&totals, 0), Vec3::ZERO);
@@ -144,10 +153,7 @@ mod tests {
     /// infinite; it stays at most 1 / (1 − 0.8).
     #[test]
     fn the_ambient_estimate_stays_bounded_with_white_walls() {
-        let mut scene = crate::scene::bundled::find("cornell")
-            .unwrap()
-            .load()
-            .unwrap();
+        let mut scene = cornell();
         for m in &mut scene.materials {
             m.kd = Vec3::ONE;
         }
@@ -166,17 +172,11 @@ mod tests {
     /// shoot predicted ambient light alone (a floor far larger than its lamp would go first).
     #[test]
     fn a_polygon_that_received_nothing_is_not_picked() {
-        let scene = crate::scene::bundled::find("cornell")
-            .unwrap()
-            .load()
-            .unwrap();
+        let scene = cornell();
         let n = scene.polygons.len();
         // Every polygon's area huge next to the light's patch: its prediction outweighs the light.
         let overshoot = Overshoot::new(&scene, &vec![1; n]);
-        let mut totals = EnergyTotals {
-            energy: vec![[0.0; 3]; n],
-            patches: vec![1_000; n],
-        };
+        let mut totals = no_energy(n, 1_000);
         let light = scene
             .polygons
             .iter()

@@ -114,3 +114,19 @@ pub fn run_ok<'a>(args: impl IntoIterator<Item = &'a std::ffi::OsStr>) -> String
     println!("{stdout}");
     stdout
 }
+
+/// OBJ lines of a deeply non-planar face: a zigzag crown of `corners` corners on the unit circle
+/// (heights 0 and 0.5 in turn), material `floor`, facing up, its vertices numbered after the
+/// file's first `before` ones (tests/hostile.rs, tests/shot_balance.rs).
+pub fn zigzag_crown(before: usize, corners: usize) -> String {
+    let mut s = String::from("o crown\nusemtl floor\n");
+    for k in 0..corners {
+        let a = std::f64::consts::TAU * k as f64 / corners as f64;
+        s += &format!("v {} {} {}\n", a.cos(), 0.5 * (k % 2) as f64, a.sin());
+    }
+    s += "f";
+    for k in 0..corners {
+        s += &format!(" {}", before + corners - k);
+    }
+    s + "\n"
+}
