@@ -55,24 +55,6 @@ pub fn default_patches(scene: &Scene) -> u32 {
     }
 }
 
-/// Why the layout has the resolution it has, in words for the run's output.
-pub fn resolution_reason(scene: &Scene, patch_size: Option<f32>, patches: Option<u32>) -> String {
-    match (patch_size, patches, scene.patch_size) {
-        (Some(_), _, _) => "--patch-size".into(),
-        (None, Some(n), _) => format!("--patches {n}"),
-        (None, None, Some(_)) => "the scene's # patch-size".into(),
-        (None, None, None) if scene.polygons.len() <= FEW_POLYGONS => {
-            format!("the default budget of {DEFAULT_PATCHES} patches")
-        }
-        (None, None, None) => format!(
-            "the default budget for {} polygons: {DEFAULT_PATCHES} + 2 per polygon = {} patches, \
-             so that surfaces larger than a patch keep at least half of them",
-            scene.polygons.len(),
-            default_patches(scene)
-        ),
-    }
-}
-
 /// Which solver computes the radiosity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -212,11 +194,32 @@ pub fn load_scene_with(
 /// The patch resolution: a patch size, else a patch count, else the scene's `# patch-size`,
 /// else the default budget ([`default_patches`]).
 pub fn resolution(scene: &Scene, patch_size: Option<f32>, patches: Option<u32>) -> Resolution {
+    resolution_and_reason(scene, patch_size, patches).0
+}
+
+/// [`resolution`], and why, in words for the run's output.
+pub fn resolution_and_reason(
+    scene: &Scene,
+    patch_size: Option<f32>,
+    patches: Option<u32>,
+) -> (Resolution, String) {
     match (patch_size, patches, scene.patch_size) {
-        (Some(s), _, _) => Resolution::PatchSize(s),
-        (None, Some(n), _) => Resolution::Patches(n),
-        (None, None, Some(s)) => Resolution::PatchSize(s),
-        (None, None, None) => Resolution::Patches(default_patches(scene)),
+        (Some(s), _, _) => (Resolution::PatchSize(s), "--patch-size".into()),
+        (None, Some(n), _) => (Resolution::Patches(n), format!("--patches {n}")),
+        (None, None, Some(s)) => (Resolution::PatchSize(s), "the scene's # patch-size".into()),
+        (None, None, None) if scene.polygons.len() <= FEW_POLYGONS => (
+            Resolution::Patches(DEFAULT_PATCHES),
+            format!("the default budget of {DEFAULT_PATCHES} patches"),
+        ),
+        (None, None, None) => (
+            Resolution::Patches(default_patches(scene)),
+            format!(
+                "the default budget for {} polygons: {DEFAULT_PATCHES} + 2 per polygon = {} \
+                 patches, so that surfaces larger than a patch keep at least half of them",
+                scene.polygons.len(),
+                default_patches(scene)
+            ),
+        ),
     }
 }
 

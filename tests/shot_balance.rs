@@ -104,11 +104,26 @@ fn every_shot_of_the_simple_room_is_within_its_bound() {
     assert!(corrections > 0, "the check found nothing to scale back");
 }
 
+/// The complex room's first 300 shots (a full default solve takes minutes on llvmpipe; the
+/// first shots carry the most power, and so the largest possible excess).
 #[test]
-fn every_shot_of_the_complex_room_is_within_its_bound() {
+fn the_complex_rooms_first_shots_are_within_their_bound() {
     let scene = load("complex");
     let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
-    default_solve("complex", &scene, &layout);
+    let ctx = context();
+    let options = SolveOptions {
+        max_shots: 300,
+        ..SolveOptions::accurate()
+    };
+    let mut solver = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
+    solver.solve(|_| {}).unwrap();
+    assert!(solver.shots() >= 300, "{} shots", solver.shots());
+    println!(
+        "complex: {} shots scaled back, {:.1} % unshot",
+        solver.ledger().corrections(),
+        100.0 * solver.unshot_fraction()
+    );
+    walk("complex", solver.history());
 }
 
 /// A deeply non-planar 10,000-corner face (a zigzag crown, split by the loader into triangles
@@ -123,19 +138,10 @@ fn every_shot_of_a_non_planar_face_is_within_its_bound_on_both_solvers() {
     )
     .unwrap();
     let n = 10_000;
-    let mut s = String::from(
+    let s = String::from(
         "mtllib crown.mtl\nusemtl lamp\nv -0.5 3 -0.5\nv 0.5 3 -0.5\nv 0.5 3 0.5\nv -0.5 3 0.5\n\
-         f 1 2 3 4\no crown\nusemtl floor\n",
-    );
-    for k in 0..n {
-        let a = std::f64::consts::TAU * k as f64 / n as f64;
-        s += &format!("v {} {} {}\n", a.cos(), 0.5 * (k % 2) as f64, a.sin());
-    }
-    s += "f";
-    for k in 0..n {
-        s += &format!(" {}", 4 + n - k);
-    }
-    s += "\n";
+         f 1 2 3 4\n",
+    ) + &zigzag_crown(4, n);
     std::fs::write(d.join("crown.obj"), s).unwrap();
     let scene = load_obj(&d.join("crown.obj")).unwrap();
     assert!(scene.polygons.len() > 1000, "{}", scene.polygons.len());

@@ -100,7 +100,7 @@ pub struct SolveArgs {
     pub overshoot: Option<bool>,
     /// Beyond the paper, for cheaper shots: draw the item buffer at this resolution (16 to
     /// --hemi-res; 0: off) for shots that carry less than --small-shot of the emitted power.
-    /// Mode default: paper 0, accurate 128.
+    /// Mode default: paper 0, accurate 128 (--hemi-res where that is smaller).
     #[arg(long, value_parser = values::hemi_res_or_off, allow_hyphen_values = true)]
     pub small_hemi_res: Option<u32>,
     /// See --small-hemi-res: a share of the emitted power (0 ≤ F < 1). Default 0.01.
@@ -193,10 +193,19 @@ impl SolveArgs {
             None if !self.dump_passes.is_empty() => 1,
             None => base.shooters_per_pass,
         };
+        // A mode's small-shot sides follow a smaller --hemi-res down (`--hemi-res 64` alone is
+        // not refused for the default's 128² small shots); sides given explicitly are checked.
+        let hemi_res = self.hemi_res.unwrap_or(base.hemi_res);
+        let small_hemi_res = self
+            .small_hemi_res
+            .unwrap_or(base.small_hemi_res.min(hemi_res));
+        let min_hemi_res = self
+            .min_hemi_res
+            .unwrap_or(base.min_hemi_res.min(small_hemi_res));
         SolveOptions {
             threshold: self.threshold.unwrap_or(base.threshold),
             max_shots: self.max_shots,
-            hemi_res: self.hemi_res.unwrap_or(base.hemi_res),
+            hemi_res,
             tessellation: self.tessellate.unwrap_or(base.tessellation),
             shooter_cell: self.shooter_cell.unwrap_or(base.shooter_cell),
             emitter_cell: self.emitter_cell.unwrap_or(base.emitter_cell),
@@ -205,9 +214,9 @@ impl SolveArgs {
             robust_visibility: base.robust_visibility,
             tuning: base.tuning,
             overshoot: self.overshoot.unwrap_or(base.overshoot),
-            small_hemi_res: self.small_hemi_res.unwrap_or(base.small_hemi_res),
+            small_hemi_res,
             small_shot: self.small_shot.unwrap_or(crate::solver::SMALL_SHOT),
-            min_hemi_res: self.min_hemi_res.unwrap_or(base.min_hemi_res),
+            min_hemi_res,
             rotate_item_buffer: self.rotate_item_buffer.unwrap_or(base.rotate_item_buffer),
             shooters_per_pass,
             conserve: self.conserve.unwrap_or(base.conserve),
@@ -317,7 +326,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         "patches: {} at patch size {:.4}, from {}",
         layout.patch_count(),
         layout.patch_size,
-        pipeline::resolution_reason(&scene, args.patch_size, args.patches)
+        pipeline::resolution_and_reason(&scene, args.patch_size, args.patches).1
     );
     // A patch size (from the flag or the scene) can ask for more patches than --patches may.
     if layout.patch_count() > values::MAX_PATCHES as u64 {

@@ -19,7 +19,10 @@ pub const MEAN_DIFFERENCE_BOUND: f64 = 0.015;
 
 /// The reference solution: the CPU solver (exact ray-cast visibility) with `options`' shooters
 /// and form factor, to [`REFERENCE_THRESHOLD`], none of the speed options. RGBA atlas in
-/// `layout`.
+/// `layout`. Configurations that shoot alike ([`same_shooters`]) share a reference: one that
+/// shoots cells is measured against a reference that shoots cells, since whole polygons and
+/// cells are two discretisations of the answer (on the simple room they differ by far more than
+/// any speed option moves it).
 pub fn reference(
     scene: &Scene,
     layout: &PatchLayout,
@@ -31,12 +34,28 @@ pub fn reference(
         max_shots: 1_000_000,
         overshoot: false,
         small_hemi_res: 0,
+        min_hemi_res: 0,
         rotate_item_buffer: false,
         ..options.clone()
     };
     let mut cpu = CpuSolver::new(scene, layout, options, threads)?;
     cpu.solve(|_| {})?;
     Ok((cpu.radiosity_atlas(), cpu.shots()))
+}
+
+/// Whether two configurations shoot from the same shooters (whole polygons or cells of the same
+/// side, cut alike), so that one [`reference`] serves both.
+pub fn same_shooters(a: &SolveOptions, b: &SolveOptions) -> bool {
+    // Whole polygons are never cut: the cut rule matters only where cells shoot.
+    let key = |o: &SolveOptions| {
+        let cells = o.shooter_cell != 0 || o.emitter_cell != 0;
+        (
+            o.shooter_cell,
+            o.emitter_cell,
+            if cells { o.cut_above } else { 0.0 },
+        )
+    };
+    key(a) == key(b)
 }
 
 /// Mean absolute per-patch difference over the mean radiance: Σ|a − b| / Σ b over the patches
