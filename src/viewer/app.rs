@@ -215,9 +215,13 @@ fn solves(v: &mut Viewer, ctx: &GlContext, scene: &Scene) -> Result<()> {
 }
 
 fn frames(v: &mut Viewer, ctx: &GlContext, scene: &Scene, s: &mut Session) -> Result<Next> {
+    // The solver took no shot when asked: nothing is left to shoot (its shot limit, or no
+    // shooter with power), so a screenshot waiting for more shots is taken now.
+    let mut stopped = false;
     loop {
         let target = v.options.screenshot.as_ref().map(|(_, n)| *n);
-        let reached = target.is_some_and(|n| s.solver.shots() >= n || s.solver.converged());
+        let reached =
+            target.is_some_and(|n| s.solver.shots() >= n || s.solver.converged() || stopped);
         if target.is_some() {
             v.controls.running = !reached;
         }
@@ -255,10 +259,17 @@ fn frames(v: &mut Viewer, ctx: &GlContext, scene: &Scene, s: &mut Session) -> Re
         if let Some(n) = target {
             shots = shots.min(n.saturating_sub(s.solver.shots()));
         }
-        if shots > 0 && s.advance(shots, SOLVE_BUDGET)? > 0 {
-            redraw = true;
-            if s.solver.converged() && target.is_none() {
+        if shots > 0 {
+            if s.advance(shots, SOLVE_BUDGET)? > 0 {
+                redraw = true;
+                if s.solver.converged() && target.is_none() {
+                    v.controls.running = false;
+                }
+            } else if !stopped {
+                stopped = true;
+                redraw = true;
                 v.controls.running = false;
+                eprintln!("the solve stopped after {} shots", s.solver.shots());
             }
         }
         if !redraw {
