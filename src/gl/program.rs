@@ -27,6 +27,15 @@ impl Source {
         }
     }
 
+    /// The same source with `text` appended: the host's definitions of functions the file
+    /// declares and calls (GLSL lets a declared function be defined after its callers).
+    pub fn append(self, text: &str) -> Source {
+        Source {
+            file: self.file,
+            text: format!("{}\n{text}", self.text).into(),
+        }
+    }
+
     /// The same source with `#define name value` (a compile-time variant: llvmpipe runs both
     /// sides of a branch, even on a uniform).
     pub fn define(self, name: &str, value: i32) -> Source {

@@ -69,11 +69,12 @@ impl PatchData {
         ctx.check(INIT_NAME)
     }
 
-    /// Bind position, normal and reflectance to texture units `first`, `first + 1`, `first + 2`.
-    pub(super) fn bind(&self, first: u32) {
-        self.position.bind(first);
-        self.normal.bind(first + 1);
-        self.reflectance.bind(first + 2);
+    /// Bind position, normal and reflectance to texture units `position`, `normal`,
+    /// `reflectance`.
+    pub(super) fn bind(&self, position: u32, normal: u32, reflectance: u32) {
+        self.position.bind(position);
+        self.normal.bind(normal);
+        self.reflectance.bind(reflectance);
     }
 }
 
