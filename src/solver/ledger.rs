@@ -91,9 +91,9 @@ impl Ledger {
     }
 
     /// Find_Max_Energy: the `count` polygons with the most unshot power (the paper: one), most
-    /// first, of those that have some.
-    pub fn find_max_energy(&self, count: usize) -> Vec<usize> {
-        self.totals.find_max_energies(0.0, count)
+    /// first, of those that have some ([`EnergyTotals::max_energy_polygons`]).
+    pub fn max_energy_polygons(&self, count: usize) -> Vec<usize> {
+        self.totals.max_energy_polygons(0.0, count)
     }
 
     /// Unshot power / emitted power, counting negative unshot energy (left by overshooting) as

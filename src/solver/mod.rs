@@ -21,6 +21,7 @@ pub mod ledger;
 pub mod mesh;
 pub mod options;
 pub mod overshoot;
+pub mod pass_names;
 pub mod progressive;
 pub mod reconstruction;
 pub mod shooters;

@@ -3,7 +3,7 @@
 //! ```text
 //! initialise the unshot energy E of every patch (its emission)      -- Backend::new, Ledger::new
 //! while not converged:                                               -- Ledger::converged
-//!     shooter = Find_Max_Energy()                                    -- Ledger::find_max_energy
+//!     shooter = Find_Max_Energy()                                    -- Ledger::max_energy_polygons
 //!     for each cell of the shooter (the paper: the whole polygon):
 //!         visibility pass from the shooter                           -- Backend::visibility
 //!         reconstruction pass: every receiver's ΔE = ρ·F·E added     -- Backend::reconstruction
@@ -21,6 +21,7 @@
 use super::balance::{self, ShotBalance};
 use super::ledger::{Ledger, PassTimes};
 use super::overshoot::Overshoot;
+use super::pass_names::{ACCUMULATION, FIND_MAX_ENERGY, READBACK, RECONSTRUCTION, VISIBILITY};
 use super::{shooters, Shooter, ShotRecord, SolveError, SolveOptions};
 use crate::patches::{Lightmap, PatchLayout};
 use crate::scene::Scene;
@@ -70,13 +71,6 @@ pub struct Solver<'a, B: Backend> {
     /// The ambient estimate, when overshooting (`SolveOptions::overshoot`).
     overshoot: Option<Overshoot>,
 }
-
-/// Pass names, as `PassTimes` keys them.
-pub const FIND_MAX_ENERGY: &str = "find_max_energy";
-pub const VISIBILITY: &str = "visibility";
-pub const RECONSTRUCTION: &str = "reconstruction";
-pub const ACCUMULATION: &str = "accumulation";
-pub const READBACK: &str = "readback";
 
 impl<'a, B: Backend> Solver<'a, B> {
     /// A solver on `backend`, whose lightmaps hold the emission, for the caller's `layout`.
@@ -358,7 +352,7 @@ impl<'a, B: Backend> Solver<'a, B> {
     }
 
     /// Find_Max_Energy: the polygon with the most unshot power (when overshooting, whose shot
-    /// would carry the most: `Overshoot::find_max_energy`).
+    /// would carry the most: `Overshoot::max_shot_polygons`).
     pub fn next_polygon(&self) -> Option<usize> {
         self.next_polygons(1).first().copied()
     }
@@ -367,8 +361,8 @@ impl<'a, B: Backend> Solver<'a, B> {
     /// most, most first (fewer when fewer have anything to shoot).
     pub fn next_polygons(&self, count: usize) -> Vec<usize> {
         match &self.overshoot {
-            Some(o) => o.find_max_energy(self.ledger.totals(), count),
-            None => self.ledger.find_max_energy(count),
+            Some(o) => o.max_shot_polygons(self.ledger.totals(), count),
+            None => self.ledger.max_energy_polygons(count),
         }
     }
 

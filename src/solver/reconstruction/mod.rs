@@ -29,6 +29,7 @@ mod programs;
 mod receivers;
 mod uniforms;
 
+use super::pass_names::{ACCUMULATION, INITIALISATION, RECONSTRUCTION};
 use super::visibility::VisibilityPass;
 use super::{Shooter, SolveOptions, Tuning};
 use crate::gl::faults::{self, Fault};
@@ -41,10 +42,6 @@ use patch_data::{PatchData, PolygonPlanes};
 use programs::{Choices, Programs};
 use receivers::Receivers;
 use uniforms::{Uniforms, UNITS};
-
-pub const NAME: &str = "reconstruction";
-pub const INIT_NAME: &str = "initialisation";
-pub const COPY_NAME: &str = "accumulation";
 
 /// The two lightmap atlases of section 3.1: accumulated and unshot radiance (RGBA32F, alpha =
 /// polygon ID + 1). The reconstruction pass samples them; the copies after it replace them.
@@ -92,7 +89,7 @@ impl Renderbuffers {
         fbo.attach_renderbuffer(glow::COLOR_ATTACHMENT1, &unshot);
         let marks = Renderbuffer::new(gl, glow::DEPTH_COMPONENT32F, width, height)?;
         fbo.attach_renderbuffer(glow::DEPTH_ATTACHMENT, &marks);
-        fbo.check_complete(NAME)?;
+        fbo.check_complete(RECONSTRUCTION)?;
         Ok(Renderbuffers {
             fbo,
             _radiosity: radiosity,
@@ -182,7 +179,7 @@ impl ReconstructionPass {
         let patches = PatchData::new(gl, width, height)?;
         let target = Renderbuffers::new(ctx, width, height)?;
         unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
-        ctx.check(NAME)?;
+        ctx.check(RECONSTRUCTION)?;
         Ok(ReconstructionPass {
             programs,
             target,
@@ -204,7 +201,7 @@ impl ReconstructionPass {
         self.target.begin(ctx, true);
         self.programs.emission.use_program();
         mesh.draw();
-        ctx.check(INIT_NAME)
+        ctx.check(INITIALISATION)
     }
 
     /// The receivers to draw for `shooters` (`Receivers::select`), covered by aligned squares of
@@ -259,7 +256,7 @@ impl ReconstructionPass {
             }
         }
         self.end_squares(ctx);
-        ctx.check(NAME)
+        ctx.check(RECONSTRUCTION)
     }
 
     /// Refuse a pass the programs cannot serve: other choices than those compiled in, or no
@@ -437,7 +434,7 @@ impl ReconstructionPass {
                 self.target.height,
             );
         }
-        ctx.check(COPY_NAME)
+        ctx.check(ACCUMULATION)
     }
 
     /// The paper's accumulation: glCopyTexSubImage2D from the renderbuffers into the lightmaps.
@@ -454,6 +451,6 @@ impl ReconstructionPass {
             ctx.gl.read_buffer(glow::COLOR_ATTACHMENT0);
             ctx.gl.bind_framebuffer(glow::FRAMEBUFFER, None);
         }
-        ctx.check(COPY_NAME)
+        ctx.check(ACCUMULATION)
     }
 }

@@ -2,11 +2,12 @@
 //! position, normal and reflectance, rasterised once into atlas textures
 //! (`glsl/patchdata.frag`), and each polygon's plane, for the robust visibility test.
 
-use super::{draw_flat, INIT_NAME};
+use super::draw_flat;
 use crate::gl::{Framebuffer, Gl, GlContext, GlError, Mesh, Program, Texture, TextureFormat};
 use crate::glsl;
 use crate::scene::Scene;
 use crate::solver::mesh::ATTRIBUTES;
+use crate::solver::pass_names::INITIALISATION;
 
 /// Each patch's geometry as atlas textures (RGBA32F): position + polygon ID + 1, normal, Kd.
 pub(super) struct PatchData {
@@ -46,7 +47,7 @@ impl PatchData {
         patches
             .fbo
             .attach_texture(glow::COLOR_ATTACHMENT2, &patches.reflectance);
-        patches.fbo.check_complete(INIT_NAME)?;
+        patches.fbo.check_complete(INITIALISATION)?;
         Ok(patches)
     }
 
@@ -66,7 +67,7 @@ impl PatchData {
         );
         self.program.use_program();
         mesh.draw();
-        ctx.check(INIT_NAME)
+        ctx.check(INITIALISATION)
     }
 
     /// Bind position, normal and reflectance to texture units `position`, `normal`,

@@ -25,6 +25,7 @@ pub mod samples;
 pub mod solids;
 
 use super::mesh::{SceneMesh, ATTRIBUTES};
+use super::pass_names::VISIBILITY;
 use super::{Shooter, Tuning, VisibilityKind};
 use crate::gl::{
     Framebuffer, GlContext, GlError, IndexStream, Program, Renderbuffer, Texture, TextureFormat,
@@ -64,8 +65,6 @@ pub struct VisibilityPass {
     stream: IndexStream,
 }
 
-pub const NAME: &str = "visibility";
-
 /// One item buffer (RGBA8, ID + 1 in RGB, 0 = nothing seen) with its depth buffer and FBO.
 struct ItemSlot {
     item_buffer: Texture,
@@ -92,7 +91,7 @@ impl ItemSlot {
         let fbo = Framebuffer::new(gl)?;
         fbo.attach_texture(glow::COLOR_ATTACHMENT0, &item_buffer);
         fbo.attach_renderbuffer(glow::DEPTH_ATTACHMENT, &depth);
-        fbo.check_complete(NAME)?;
+        fbo.check_complete(VISIBILITY)?;
         Ok(ItemSlot {
             item_buffer,
             _depth: depth,
@@ -181,7 +180,7 @@ impl VisibilityPass {
             .map(|_| ItemSlot::new(gl, width, res, tuning.float_depth))
             .collect::<Result<Vec<_>, GlError>>()?;
         unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
-        ctx.check(NAME)?;
+        ctx.check(VISIBILITY)?;
         // Near plane: 1e-4 of the scene, so the shooter's own plane is clipped away but receivers
         // a hair in front of it are kept. Far plane: beyond anything in the scene.
         let near_far = [scene_size * 1e-4, scene_size * 2.0];
@@ -212,10 +211,10 @@ impl VisibilityPass {
 
     /// Merge coplanar polygons outside the solids into plates (`Tuning::plates`; hemicube only:
     /// the hemispherical projection needs small polygons, and bigger ones would curve more). The
-    /// caller then draws a mesh made by `mesh::plate_data` from the plates returned; the item
+    /// caller then draws a mesh made by `Plates::vertex_data` from the plates returned; the item
     /// buffer shows each plate under its representative's ID. Only for the robust visibility
     /// test, which reads the shown polygon's plane, not its ID alone. With the switch off every
-    /// polygon stays alone, and `plate_data` gives the scene's own mesh.
+    /// polygon stays alone, and `Plates::vertex_data` gives the scene's own mesh.
     pub fn merge_plates(&mut self, scene: &Scene) -> &Plates {
         if self.kind == VisibilityKind::Hemicube && self.tuning.plates {
             let solids = &self.culling.solids;
@@ -385,7 +384,7 @@ impl VisibilityPass {
                 gl.flush();
             }
         }
-        ctx.check(NAME)
+        ctx.check(VISIBILITY)
     }
 
     /// How many times a view left a polygon out as falling between the pixel centres, over all
