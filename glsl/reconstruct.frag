@@ -141,7 +141,8 @@ float EdgeTerm(vec3 a, vec3 b)
 // shooter above its tangent plane, so nothing needs clipping. llvmpipe runs both sides of every
 // branch, even one on a uniform, so the host compiles this file twice and draws the blocks that
 // need no clipping with the cheaper variant. Where nothing is clipped both compute the same sum,
-// up to float rounding (tests/reconstruction_cover.rs).
+// up to float rounding (tests/tuning.rs:
+// skipping_needless_clipping_changes_nothing_but_float_noise).
 #ifndef SHOOTER_ABOVE
 #define SHOOTER_ABOVE 0
 #endif
@@ -269,7 +270,10 @@ void ShootsFrom(ivec2 texel, int k)
 // (`reconstruction::programs::per_shooter_functions`); for SHOOTERS = 2 they read:
 //
 //   void ShootsFromEach(ivec2 texel) { ShootsFrom(texel, 0); ShootsFrom(texel, 1); }
-//   bool ReceivesFromAny() { return Receives(0, HemiItemBuffer[0]) || Receives(1, HemiItemBuffer[1]); }
+//   bool ReceivesFromAny()
+//   {
+//       return Receives(0, HemiItemBuffer[0]) || Receives(1, HemiItemBuffer[1]);
+//   }
 //   vec3 ReceivedFromEach()
 //   {
 //       vec3 delta = vec3(0.0);
@@ -277,9 +281,9 @@ void ShootsFrom(ivec2 texel, int k)
 //       delta += Received(1, HemiItemBuffer[1]);
 //       return delta;
 //   }
-void ShootsFromEach(ivec2 texel);   // Shooting, Remainder: does this texel shoot now, and for whom
-bool ReceivesFromAny();             // does any shooter of the pass reach this patch
-vec3 ReceivedFromEach();            // ΔL: the sum of what each shooter sends this patch
+void ShootsFromEach(ivec2 texel); // sets Shooting and Remainder (ShootsFrom, each shooter)
+bool ReceivesFromAny();           // whether any shooter of the pass reaches this patch
+vec3 ReceivedFromEach();          // ΔL: the sum of what each shooter sends this patch
 
 void main()
 {

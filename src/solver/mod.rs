@@ -7,10 +7,10 @@
 //! `shooters.rs` (the shooter's cells), `visibility/` (item buffer from the shooter, and what it
 //! may leave out), `reconstruction/` (form factors and received energy per patch, accumulation),
 //! `form_factor.rs` (the CPU twins of the shader's factors). `mesh.rs` builds the vertex data
-//! the passes draw; `tuning.rs` holds every speed trick for llvmpipe, apart from the paper;
-//! `overshoot.rs` the ambient estimate of overshooting, one of the speed options beyond the paper
-//! that change the answer (`SolveOptions::overshoot`, `small_hemi_res`,
-//! `rotate_item_buffer`, `shooters_per_pass`).
+//! the passes draw; `pass_names.rs` names the steps (timers, GL errors); `tuning.rs` holds every
+//! speed trick for llvmpipe, apart from the paper; `overshoot.rs` the ambient estimate of
+//! overshooting, one of the speed options beyond the paper that change the answer
+//! (`SolveOptions::overshoot`, `small_hemi_res`, `rotate_item_buffer`, `shooters_per_pass`).
 
 pub mod balance;
 pub mod cpu;

@@ -14,7 +14,8 @@
 //! The receivers are rasterised once, at initialisation, into atlas textures holding each patch's
 //! position, normal and reflectance (`patch_data.rs`, with the polygons' planes); every pass
 //! then picks the blocks to draw (`receivers.rs`) and draws squares of whole 4×4 texel blocks
-//! covering them (`cover.rs`). With `Tuning::none()` (the paper's mode) every patch is drawn
+//! covering them (`cover.rs`), with the programs of `programs.rs` and the texture units and
+//! uniforms of `uniforms.rs`. With `Tuning::none()` (the paper's mode) every patch is drawn
 //! every pass, into renderbuffers cleared first. The speed switches of `Tuning` run a marking
 //! pass so that only the texels the shooter sees compute form factors (and can draw only the
 //! receivers' blocks); the texels they leave alone keep the renderbuffers' values, which the

@@ -14,10 +14,11 @@
 //! ```
 //!
 //! The paper draws the whole scene into each view. What this pass does besides, for llvmpipe's
-//! sake, is switched by [`Tuning`] (each switch documented there): views culled by bounding
-//! spheres, a guard band around each hemicube face, draws split by whether they need clipping,
-//! half side faces, coplanar neighbours drawn as one plate (`plates`), the far faces of convex
-//! solids left out (`solids`), float depth, and a glFlush at the end.
+//! sake, is switched by [`Tuning`] (each switch documented there): what each view leaves out, in
+//! `culling` (views culled by bounding spheres, draws split by whether they need clipping,
+//! coplanar neighbours drawn as one plate (`plates`), the far faces of convex solids left out
+//! (`solids`), polygons between the pixel centres (`samples`)), and in the draw itself a guard
+//! band around each hemicube face, half side faces, float depth, and a glFlush at the end.
 
 pub mod culling;
 pub mod plates;
@@ -229,10 +230,7 @@ impl VisibilityPass {
         self.plates.representative[p]
     }
 
-    /// Draw the item buffer from `shooter` (into the first slot). With `Tuning::cull_views` each view draws only the
-    /// polygons whose bounding sphere reaches into it and in front of the shooter, and with
-    /// `Tuning::half_side_faces` the hemicube's side faces fill only their upper halves, the
-    /// part above the shooter's horizon that the reconstruction pass looks up.
+    /// Draw the item buffer from `shooter` into the first slot, the paper's one (`run_in_slot`).
     pub fn run(
         &mut self,
         ctx: &GlContext,
