@@ -33,8 +33,27 @@ use crate::solver::{
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
-/// Patches when neither the caller nor the scene says otherwise.
+/// Patches when neither the caller nor the scene says otherwise, for a scene of few polygons.
 pub const DEFAULT_PATCHES: u32 = 4096;
+
+/// Scenes of more polygons than this get [`default_patches`] beyond [`DEFAULT_PATCHES`].
+pub const FEW_POLYGONS: usize = DEFAULT_PATCHES as usize / 8;
+
+/// The default patch budget: [`DEFAULT_PATCHES`], and for a scene of many polygons (more than
+/// [`FEW_POLYGONS`]) two more per polygon. Every polygon gets at least one patch whatever the
+/// size, so a fixed budget below the polygon count would make every face one flat texel, the
+/// largest walls included (a 40,000-triangle room came out one texel per face, patch size
+/// larger than the scene); two per polygon leave at least half the patches to the surfaces
+/// larger than a patch, in proportion to their area.
+pub fn default_patches(scene: &Scene) -> u32 {
+    let polygons = scene.polygons.len();
+    if polygons <= FEW_POLYGONS {
+        DEFAULT_PATCHES
+    } else {
+        let budget = DEFAULT_PATCHES as u64 + 2 * polygons as u64;
+        budget.min(u32::MAX as u64) as u32
+    }
+}
 
 /// Which solver computes the radiosity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
@@ -173,13 +192,34 @@ pub fn load_scene_with(
 }
 
 /// The patch resolution: a patch size, else a patch count, else the scene's `# patch-size`,
-/// else [`DEFAULT_PATCHES`].
+/// else the default budget ([`default_patches`]).
 pub fn resolution(scene: &Scene, patch_size: Option<f32>, patches: Option<u32>) -> Resolution {
+    resolution_and_reason(scene, patch_size, patches).0
+}
+
+/// [`resolution`], and why, in words for the run's output.
+pub fn resolution_and_reason(
+    scene: &Scene,
+    patch_size: Option<f32>,
+    patches: Option<u32>,
+) -> (Resolution, String) {
     match (patch_size, patches, scene.patch_size) {
-        (Some(s), _, _) => Resolution::PatchSize(s),
-        (None, Some(n), _) => Resolution::Patches(n),
-        (None, None, Some(s)) => Resolution::PatchSize(s),
-        (None, None, None) => Resolution::Patches(DEFAULT_PATCHES),
+        (Some(s), _, _) => (Resolution::PatchSize(s), "--patch-size".into()),
+        (None, Some(n), _) => (Resolution::Patches(n), format!("--patches {n}")),
+        (None, None, Some(s)) => (Resolution::PatchSize(s), "the scene's # patch-size".into()),
+        (None, None, None) if scene.polygons.len() <= FEW_POLYGONS => (
+            Resolution::Patches(DEFAULT_PATCHES),
+            format!("the default budget of {DEFAULT_PATCHES} patches"),
+        ),
+        (None, None, None) => (
+            Resolution::Patches(default_patches(scene)),
+            format!(
+                "the default budget for {} polygons: {DEFAULT_PATCHES} + 2 per polygon = {} \
+                 patches, so that surfaces larger than a patch keep at least half of them",
+                scene.polygons.len(),
+                default_patches(scene)
+            ),
+        ),
     }
 }
 

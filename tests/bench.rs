@@ -21,8 +21,9 @@ fn table1_reports_the_rooms_counts_and_both_solvers() {
         "--json".as_ref(),
         json.as_os_str(),
     ]);
-    // Two rows: the paper-faithful configuration and the fast one, timed in the same run.
-    for configuration in ["paper-faithful", "fast"] {
+    // Three rows: the paper-faithful configuration, the default and whole polygons, timed in
+    // the same run.
+    for configuration in ["paper-faithful", "default", "whole polygons"] {
         let row = format!("| simple | {configuration} | 1602 | 6431 | 2 | 14445 |");
         assert!(stdout.contains(&row), "no row {row}: {stdout}");
     }
@@ -36,10 +37,16 @@ fn table1_reports_the_rooms_counts_and_both_solvers() {
     assert!(stdout.contains("shader cache: "), "{stdout}");
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert_eq!(report["rows"].as_array().unwrap().len(), 2);
-    assert_eq!(report["fast_options"]["overshoot"], true);
-    assert_eq!(report["fast_options"]["rotate_item_buffer"], true);
-    for (k, configuration) in ["paper-faithful", "fast"].iter().enumerate() {
+    assert_eq!(report["rows"].as_array().unwrap().len(), 3);
+    for speed in ["default", "whole polygons"] {
+        assert_eq!(report["options"][speed]["overshoot"], true);
+        assert_eq!(report["options"][speed]["rotate_item_buffer"], true);
+    }
+    assert_eq!(report["options"]["default"]["shooter_cell"], 4);
+    assert_eq!(report["options"]["whole polygons"]["shooter_cell"], 0);
+    assert_eq!(report["options"]["paper-faithful"]["overshoot"], false);
+    let configurations = ["paper-faithful", "default", "whole polygons"];
+    for (k, configuration) in configurations.iter().enumerate() {
         let row = &report["rows"][k];
         assert_eq!(row["configuration"], *configuration);
         // The accuracy guard beside the times (a fraction; at 50 % unshot far from the
@@ -175,7 +182,7 @@ fn scaling_reports_each_size_and_solver_with_an_exponent_and_a_plot() {
 }
 
 #[test]
-fn scaling_times_the_fast_configuration_when_asked() {
+fn scaling_times_the_whole_polygons_configuration_when_asked() {
     use gpu_radiosity::cli::bench::{gpu_run, room};
     use gpu_radiosity::gl::BackendChoice;
     use gpu_radiosity::solver::SolveOptions;
@@ -186,7 +193,7 @@ fn scaling_times_the_fast_configuration_when_asked() {
             "bench",
             "scaling",
             "--configuration",
-            "fast",
+            "whole polygons",
             "--scenes",
             "simple",
         ]
@@ -197,10 +204,10 @@ fn scaling_times_the_fast_configuration_when_asked() {
     );
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert_eq!(report["configuration"], "fast");
+    assert_eq!(report["configuration"], "whole polygons");
     let runs = report["runs"].as_array().unwrap();
     assert_eq!(runs.len(), 2, "one size, two solvers");
-    // The child solved with the fast options: its GPU shots are those of a solve with them here,
+    // The child solved with whole polygons and the speed options: its GPU shots are those of a solve with them here,
     // which differ from the paper-faithful configuration's.
     let (scene, layout) = room("simple").unwrap();
     let shots = |options| {

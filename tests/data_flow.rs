@@ -137,8 +137,10 @@ fn find_max_energy_reads_the_unshot_texture() {
         let record = solver.step().unwrap().unwrap();
         assert_eq!(record.shooter, wall, "{mode}");
         let after = solver.unshot_atlas();
+        // Cleared to 0 in the paper; in the accurate mode to the overshoot remainder (ρ times the
+        // ambient still to come, negative): either way none of the 100 is left.
         let cleared = patches(&after)
-            .filter(|&(i, p)| p == wall && after[i * 4..i * 4 + 3] == [0.0; 3])
+            .filter(|&(i, p)| p == wall && after[i * 4..i * 4 + 3].iter().all(|&v| v <= 0.0))
             .count();
         assert!(cleared > 0, "{mode}");
         if mode == "paper" {

@@ -35,8 +35,9 @@ fn tessellated_room(n: usize) -> String {
         vertices += 4;
     };
     let (w, h, d) = (4.0f32, 2.5f32, 3.0f32);
-    // Each wall: origin, two edge vectors (u × v points into the room).
-    let walls: [([f32; 3], [f32; 3], [f32; 3], &str); 6] = [
+    // Each wall: origin, two edge vectors (u × v points into the room), material.
+    type Wall = ([f32; 3], [f32; 3], [f32; 3], &'static str);
+    let walls: [Wall; 6] = [
         ([0.0, 0.0, 0.0], [0.0, 0.0, d], [w, 0.0, 0.0], "floor"),
         ([0.0, h, 0.0], [w, 0.0, 0.0], [0.0, 0.0, d], "ceiling"),
         ([0.0, 0.0, 0.0], [w, 0.0, 0.0], [0.0, h, 0.0], "wall"),

@@ -416,7 +416,7 @@ fn render(ctx: &GlContext, s: &Solved, angle: f32) -> Image {
 fn check_mode(mode: Mode, kind: SolverKind, shots: u32) {
     let dir = tempfile::tempdir().unwrap();
     let w = write_scene(dir.path());
-    let (_guard, ctx) = common::serial_context();
+    let ctx = common::context();
     let s = solve(&ctx, &w.obj, mode, kind, shots);
     let camera = s.scene.camera_or_default();
     let (flat, smooth) = (render(&ctx, &s, 0.0), render(&ctx, &s, 40.0));
@@ -509,7 +509,7 @@ fn curved_surfaces_are_smooth_with_the_cpu_solver() {
 /// default display draws it bit for bit as without smoothing.
 #[test]
 fn the_cornell_box_draws_exactly_as_before() {
-    let (_guard, ctx) = common::serial_context();
+    let ctx = common::context();
     let (scene, _) = pipeline::load_scene(None).unwrap();
     let layout = pipeline::lay_out(&scene, None, None).unwrap();
     let smoothing = Smoothing::new(&scene, &layout, smooth::DEFAULT_ANGLE);

@@ -18,7 +18,7 @@ fn no_speed_option_moves_the_simple_room_away_from_the_exhaustive_solution() {
     let (reference, shots) =
         guard::reference(&scene, &layout, &SolveOptions::paper_faithful(0.01), 0).unwrap();
     println!("reference: {shots} shots");
-    let (_lock, ctx) = serial_context();
+    let ctx = context();
     let mut differences = Vec::new();
     for (name, options) in configurations(0.01) {
         let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
@@ -32,7 +32,10 @@ fn no_speed_option_moves_the_simple_room_away_from_the_exhaustive_solution() {
         differences.push((name, gpu.shots(), d));
     }
     let (_, base_shots, base) = differences[0];
-    for &(name, shots, d) in &differences[1..] {
+    // The reference shoots whole polygons, as the paper-faithful configuration and the speed
+    // options alone do; the default shoots in cells, a different discretisation of the same
+    // answer, so it is judged by the bound alone (and on the Cornell box by the path tracer).
+    for &(name, shots, d) in &differences[1..differences.len() - 1] {
         assert!(
             d <= base,
             "{name}: {:.3} % from the exhaustive solution, the paper-faithful configuration {:.3} %",
@@ -40,20 +43,20 @@ fn no_speed_option_moves_the_simple_room_away_from_the_exhaustive_solution() {
             100.0 * base
         );
         // Overshooting saves time by taking fewer shots (the others by cheaper ones).
-        if name == "overshoot" || name == "fast" {
+        if name == "overshoot" || name == "whole polygons" {
             assert!(
                 shots < base_shots,
                 "{name}: {shots} shots, paper-faithful {base_shots}"
             );
         }
     }
-    let (name, _, fast) = *differences.last().unwrap();
-    assert_eq!(name, "fast");
-    assert!(
-        fast <= guard::MEAN_DIFFERENCE_BOUND,
-        "fast: {:.3} %",
-        100.0 * fast
-    );
+    for &(name, _, d) in &differences[differences.len() - 2..] {
+        assert!(
+            d <= guard::MEAN_DIFFERENCE_BOUND,
+            "{name}: {:.3} %",
+            100.0 * d
+        );
+    }
     // README ("Table 1") and docs/accuracy.md quote these.
     let quoted = [
         ("paper-faithful", "1.86", 1352),
@@ -61,7 +64,7 @@ fn no_speed_option_moves_the_simple_room_away_from_the_exhaustive_solution() {
         ("item buffer by shot", "1.67", 1395),
         ("item buffer turned", "1.82", 1360),
         ("shooters per pass", "1.86", 1354),
-        ("fast", "1.29", 912),
+        ("whole polygons", "1.29", 912),
     ];
     for ((name, d_quoted, shots_quoted), &(got, shots, d)) in quoted.iter().zip(&differences) {
         assert_eq!(*name, got);
@@ -92,7 +95,7 @@ fn the_cpu_twin_follows_the_speed_options() {
         ..SolveOptions::accurate()
     };
     let gpu_atlas = {
-        let (_lock, ctx) = serial_context();
+        let ctx = context();
         let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
         gpu.solve(|_| {}).unwrap();
         (gpu.radiosity_atlas(), gpu.shots())
@@ -377,7 +380,7 @@ fn the_shooters_of_one_pass_shoot_simultaneously() {
         from(&mut cpu(1), &start, Some(0)),
         from(&mut cpu(1), &start, Some(1)),
     );
-    let (_lock, ctx) = serial_context();
+    let ctx = context();
     let gpu = |k| GpuSolver::new(&ctx, &scene, &layout, whole_polygons(k)).unwrap();
     check(
         "GPU",
@@ -397,7 +400,7 @@ fn a_pass_with_idle_slots_adds_what_a_full_one_adds() {
     let scene = load("cornell");
     let layout = PatchLayout::new(&scene, Resolution::Patches(600));
     let start = after_the_lights_shot(&scene, &layout);
-    let (_lock, ctx) = serial_context();
+    let ctx = context();
     let shoot_two = |k: u32| {
         let mut gpu = GpuSolver::new(&ctx, &scene, &layout, whole_polygons(k)).unwrap();
         gpu.load_atlases(&start.0, &start.1).unwrap();

@@ -34,7 +34,7 @@ fn atlases_come_back_in_the_callers_layout() {
     let dense = layout.without_gutters();
     assert!(dense.atlas_width * dense.atlas_height < layout.atlas_width * layout.atlas_height);
     assert_eq!(dense.patch_count(), layout.patch_count());
-    let (_one_at_a_time, ctx) = serial_context();
+    let ctx = context();
     let mut solver = GpuSolver::new(
         &ctx,
         &scene,
@@ -123,7 +123,7 @@ fn marking_after_some_shots_only_gives_the_same_lightmaps() {
     // pass and as never marking.
     let scene = load("simple");
     let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
-    let (_one_at_a_time, ctx) = serial_context();
+    let ctx = context();
     let fast = gpu_radiosity::solver::SolveOptions::whole_polygons(0.01);
     let solver = |tweak: fn(&mut Tuning)| {
         let mut options = fast.clone();
@@ -200,7 +200,7 @@ fn programs_with_the_solves_choices_compiled_in_give_the_same_lightmaps() {
     });
     let scene = load("simple");
     let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
-    let (_one_at_a_time, ctx) = serial_context();
+    let ctx = context();
     let options = SolveOptions {
         tuning: Tuning::llvmpipe(),
         ..SolveOptions::paper()
@@ -222,7 +222,7 @@ fn programs_with_choices_compiled_in_refuse_other_choices() {
     let scene = load("simple");
     let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()))
         .without_gutters();
-    let (_one_at_a_time, ctx) = serial_context();
+    let ctx = context();
     let options = gpu_radiosity::solver::SolveOptions::paper_faithful(0.01);
     let solver = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
     let shooters = solver.shooters_of(solver.next_polygon().unwrap());
@@ -347,7 +347,7 @@ fn leaving_out_polygons_between_pixel_centres_changes_no_pixel() {
     // pixels in every shooter's item buffer, step after step.
     let scene = load("simple");
     let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
-    let (_one_at_a_time, ctx) = serial_context();
+    let ctx = context();
     let fast = gpu_radiosity::solver::SolveOptions::whole_polygons(0.01);
     let fast_slots = fast.shooters_per_pass as usize;
     let mut whole_options = fast.clone();
@@ -458,7 +458,7 @@ fn on_both_rooms_from(
             .patch_size
             .map_or(Resolution::Patches(4096), Resolution::PatchSize);
         let layout = PatchLayout::new(&scene, resolution);
-        let (_one_at_a_time, ctx) = serial_context();
+        let ctx = context();
         let mut options = options;
         base(&mut options.tuning);
         let mut tweaked = options.clone();

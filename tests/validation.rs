@@ -46,7 +46,7 @@ const FACTORS: [&str; 9] = [
 
 #[test]
 fn form_factors_match_the_closed_forms() {
-    let (_one_at_a_time, ctx) = serial_context();
+    let ctx = context();
     let checks = validate::form_factor_checks(&ctx, "accurate", &SolveOptions::accurate()).unwrap();
     require(&checks);
     // paper_notes, "Measured: error against the closed forms", the accurate row "today".
@@ -63,7 +63,7 @@ fn form_factors_match_the_closed_forms() {
 fn the_papers_point_factor_misses_them() {
     // The reason for the accurate mode, kept honest: the paper's point factor from the polygon's
     // centre is off by far more than the tolerance on the perpendicular squares.
-    let (_one_at_a_time, ctx) = serial_context();
+    let ctx = context();
     let checks = validate::form_factor_checks(&ctx, "paper", &SolveOptions::paper()).unwrap();
     print!("{}", validate::table(&checks));
     // paper_notes, the same table's "paper" row (its furnace and balance columns are not
@@ -84,7 +84,7 @@ fn the_papers_point_factor_misses_them() {
 
 #[test]
 fn furnace_and_energy_balance() {
-    let (_one_at_a_time, ctx) = serial_context();
+    let ctx = context();
     let options = SolveOptions::accurate();
     let checks = [
         validate::furnace(&ctx, "accurate", &options).unwrap(),
@@ -100,7 +100,7 @@ fn furnace_and_energy_balance() {
 
 #[test]
 fn progressive_matches_a_direct_solve() {
-    let (_one_at_a_time, ctx) = serial_context();
+    let ctx = context();
     let checks = [validate::direct_solve(&ctx).unwrap()];
     require(&checks);
     // paper_notes: "Today: direct solve 0.003 %".
@@ -109,7 +109,7 @@ fn progressive_matches_a_direct_solve() {
 
 #[test]
 fn cornell_converges_under_refinement() {
-    let (_one_at_a_time, ctx) = serial_context();
+    let ctx = context();
     let checks = validate::refinement(&ctx).unwrap();
     require(&checks);
     // paper_notes: "refinement 0.003–0.168 %", the walls' smallest and largest error.
@@ -128,7 +128,7 @@ fn the_ambient_term_accounts_for_the_unshot_energy() {
     // ambient term (exact in total for uniform ρ) it is back at 2.
     let scene = load("box");
     let layout = PatchLayout::new(&scene, Resolution::PatchSize(1.0 / 16.0));
-    let (_one_at_a_time, ctx) = serial_context();
+    let ctx = context();
     let options = SolveOptions {
         threshold: 0.2,
         ..SolveOptions::accurate()

@@ -47,8 +47,8 @@ pub struct SolveArgs {
         allow_hyphen_values = true,
     )]
     pub max_shots: u32,
-    /// Aim at about this many patches, 1 to 1,048,576 (default 4096 unless the scene sets a
-    /// patch size).
+    /// Aim at about this many patches, 1 to 1,048,576 (default, unless the scene sets a patch
+    /// size: 4096, plus 2 per polygon on scenes of more than 512 polygons).
     #[arg(
         long,
         conflicts_with = "patch_size",
@@ -313,6 +313,12 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     let set = OutputSet::begin(&out_dir)?;
 
     let layout = pipeline::lay_out(&scene, args.patch_size, args.patches)?;
+    eprintln!(
+        "patches: {} at patch size {:.4}, from {}",
+        layout.patch_count(),
+        layout.patch_size,
+        pipeline::resolution_and_reason(&scene, args.patch_size, args.patches).1
+    );
     // A patch size (from the flag or the scene) can ask for more patches than --patches may.
     if layout.patch_count() > values::MAX_PATCHES as u64 {
         bail!(

@@ -2,7 +2,6 @@
 
 use super::solve::{parse_size, Mode};
 use super::values;
-use crate::pipeline::DEFAULT_PATCHES;
 use crate::scene::Emission;
 use crate::viewer::{self, Overlay, ViewOptions};
 use anyhow::Result;
@@ -16,16 +15,12 @@ pub struct ViewArgs {
     /// `paper` or `accurate`, as for `solve` (switch in the window with M).
     #[arg(long, value_enum, default_value_t = Mode::Accurate)]
     pub mode: Mode,
-    /// Stop when unshot power / emitted power ≤ this (0 < F < 1).
-    #[arg(
-        long,
-        default_value_t = 0.01,
-        value_parser = values::threshold,
-        allow_hyphen_values = true,
-    )]
-    pub threshold: f32,
-    /// Aim at about this many patches, 1 to 1,048,576 (default 4096 unless the scene sets a
-    /// patch size).
+    /// Stop when unshot power / emitted power ≤ this (0 < F < 1). Mode default: paper 0.01,
+    /// accurate 0.003.
+    #[arg(long, value_parser = values::threshold, allow_hyphen_values = true)]
+    pub threshold: Option<f32>,
+    /// Aim at about this many patches, 1 to 1,048,576 (default, unless the scene sets a patch
+    /// size: 4096, plus 2 per polygon on scenes of more than 512 polygons).
     #[arg(
         long,
         conflicts_with = "patch_size",
@@ -81,16 +76,17 @@ pub struct ViewArgs {
 }
 
 pub fn run_view(args: &ViewArgs) -> Result<()> {
+    let threshold = args.threshold.unwrap_or(args.mode.options().threshold);
     // The flags' ranges are checked while parsing (values.rs); this is for the library's rules.
-    super::solve::check_solve_settings(args.threshold, args.patch_size, args.patches)?;
+    super::solve::check_solve_settings(threshold, args.patch_size, args.patches)?;
     viewer::run(ViewOptions {
         scene: args.scene.clone(),
         emit: args.emit.clone(),
         keep_faces: args.keep_faces,
         mode: args.mode,
-        threshold: args.threshold,
+        threshold,
         patch_size: args.patch_size,
-        patches: args.patches.unwrap_or(DEFAULT_PATCHES),
+        patches: args.patches,
         size: args.size,
         exposure: args.exposure,
         smooth_angle: args.smooth_angle,

@@ -59,18 +59,101 @@ pub struct NoDriver {
     pub tried: String,
 }
 
-enum Keep {
-    Egl(#[allow(dead_code)] egl::EglContext),
-    Osmesa(#[allow(dead_code)] osmesa::OsMesaContext),
+/// What keeps a context alive, and its teardown.
+enum Backend {
+    Egl(egl::EglContext),
+    Osmesa(osmesa::OsMesaContext),
     External(#[allow(dead_code)] Box<dyn std::any::Any>),
 }
 
+/// A context's backend, destroyed in `drop` with no context current; then the thread's newest
+/// remaining context is made current again.
+struct Keep {
+    backend: Option<Backend>,
+}
+
+impl Keep {
+    /// Make this context current on the calling thread. A window's context is made current by
+    /// its window, and is the only one on the viewer's thread.
+    fn make_current(&self) {
+        match &self.backend {
+            Some(Backend::Egl(c)) => {
+                c.make_current();
+            }
+            Some(Backend::Osmesa(c)) => {
+                c.make_current();
+            }
+            _ => {}
+        }
+    }
+}
+
+impl Drop for Keep {
+    fn drop(&mut self) {
+        let backend = self.backend.take();
+        let egl = matches!(backend, Some(Backend::Egl(_)));
+        // EglContext and OsMesaContext release the context, then destroy it.
+        drop(backend);
+        let (newest, egl_left) = LIVE
+            .try_with(|live| {
+                let mut live = live.borrow_mut();
+                live.retain(|k| k.strong_count() > 0);
+                // A window's context may be EGL too.
+                let egl_left = live
+                    .iter()
+                    .filter_map(std::rc::Weak::upgrade)
+                    .any(|k| matches!(k.backend, Some(Backend::Egl(_) | Backend::External(_))));
+                (live.last().and_then(std::rc::Weak::upgrade), egl_left)
+            })
+            .unwrap_or((None, true));
+        if let Some(k) = newest {
+            k.make_current();
+        }
+        if egl && !egl_left {
+            // The thread's last EGL context is gone: free its EGL state now, not at its end.
+            egl::release_thread();
+        }
+    }
+}
+
+thread_local! {
+    /// This thread's live contexts, oldest first. A new context is made current when it is
+    /// created, so GL calls go to the newest; `drop` keeps it so.
+    static LIVE: std::cell::RefCell<Vec<std::rc::Weak<Keep>>> = const {
+        std::cell::RefCell::new(Vec::new())
+    };
+}
+
 /// A current GL context. GL objects made with `gl` must be dropped before this value.
+///
+/// Several may live in one thread (each call goes to the newest; use the objects of one only
+/// while it is the newest), and in several threads at once. A `GlContext` cannot move to
+/// another thread (it is neither `Send` nor `Sync`), so it is always dropped on the thread it
+/// is current on. Dropping one, in any order, tears it down with this context current (the
+/// glow handle removes its KHR_debug callback from this context, not another), destroys it
+/// with no context current, and makes the thread's newest remaining context current again.
 pub struct GlContext {
     pub gl: Gl,
     pub info: GlInfo,
     pub debug: Option<DebugLog>,
-    _keep: Keep,
+    _keep: Rc<Keep>,
+}
+
+impl Drop for GlContext {
+    fn drop(&mut self) {
+        let newest = LIVE
+            .try_with(|live| {
+                live.borrow()
+                    .last()
+                    .is_some_and(|k| std::ptr::eq(k.as_ptr(), Rc::as_ptr(&self._keep)))
+            })
+            .unwrap_or(true);
+        if !newest {
+            self._keep.make_current();
+        }
+        // Then the fields go in order: `gl` (with the debug callback, if this is the last
+        // handle), then `_keep` (release, destroy, restore the newest).
+    }
 }
 
 impl GlContext {
@@ -83,8 +166,8 @@ impl GlContext {
         let mut tried = Vec::new();
         for &kind in order {
             let made = match kind {
-                BackendKind::Egl => egl::create().map(|(k, gl)| (Keep::Egl(k), gl)),
-                BackendKind::Osmesa => osmesa::create().map(|(k, gl)| (Keep::Osmesa(k), gl)),
+                BackendKind::Egl => egl::create().map(|(k, gl)| (Backend::Egl(k), gl)),
+                BackendKind::Osmesa => osmesa::create().map(|(k, gl)| (Backend::Osmesa(k), gl)),
                 BackendKind::Window => unreachable!("not a headless backend"),
             };
             match made {
@@ -106,10 +189,19 @@ impl GlContext {
         gl: glow::Context,
         keep: Box<dyn std::any::Any>,
     ) -> Result<GlContext, String> {
-        Self::finish(BackendKind::Window, Keep::External(keep), gl)
+        Self::finish(BackendKind::Window, Backend::External(keep), gl)
     }
 
-    fn finish(kind: BackendKind, keep: Keep, mut gl: glow::Context) -> Result<GlContext, String> {
+    fn finish(
+        kind: BackendKind,
+        backend: Backend,
+        mut gl: glow::Context,
+    ) -> Result<GlContext, String> {
+        // Registered first, so that a refusal below tears it down like any other.
+        let keep = Rc::new(Keep {
+            backend: Some(backend),
+        });
+        LIVE.with(|live| live.borrow_mut().push(Rc::downgrade(&keep)));
         let version = gl.version();
         if (version.major, version.minor) < (3, 0) || version.is_embedded {
             return Err(format!(
@@ -144,5 +236,131 @@ impl GlContext {
     /// Turn pending GL errors into an error naming `pass`.
     pub fn check(&self, pass: &str) -> Result<(), super::GlError> {
         super::check::check(&self.gl, self.debug.as_ref(), pass)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gl::{Texture, TextureFormat};
+
+    /// Upload a pattern particular to `seed` into a new texture on `ctx` and read it back.
+    fn round_trip(ctx: &GlContext, seed: u32) -> bool {
+        let (w, h) = (29 + seed as i32 % 7, 11);
+        let data: Vec<f32> = (0..w * h * 4).map(|i| (i as u32 ^ seed) as f32).collect();
+        let texture = Texture::new(&ctx.gl, w, h, TextureFormat::Rgba32F, glow::NEAREST).unwrap();
+        texture.upload_f32(&data);
+        let mut back = Vec::new();
+        texture.read_f32(&mut back);
+        back == data && ctx.check("round trip").is_ok()
+    }
+
+    /// A deliberate GL error, as `check` reports it on `ctx`.
+    fn provoked_error(ctx: &GlContext) -> String {
+        unsafe { ctx.gl.enable(0xFFFF) };
+        ctx.check("provoked").unwrap_err().to_string()
+    }
+
+    fn backends() -> Vec<BackendChoice> {
+        // Each backend this machine has (CI installs both).
+        [BackendChoice::Egl, BackendChoice::Osmesa]
+            .into_iter()
+            .filter(|&b| GlContext::headless(b).is_ok())
+            .collect()
+    }
+
+    #[test]
+    fn contexts_made_and_dropped_in_several_threads_at_once() {
+        let backends = backends();
+        assert!(!backends.is_empty(), "no GL backend");
+        std::thread::scope(|s| {
+            for t in 0..4u32 {
+                let backends = &backends;
+                s.spawn(move || {
+                    for round in 0..6u32 {
+                        let backend = backends[(t + round) as usize % backends.len()];
+                        let ctx = GlContext::headless(backend).unwrap();
+                        assert!(round_trip(&ctx, t * 100 + round), "{backend:?}");
+                    }
+                });
+            }
+        });
+    }
+
+    /// Threads that make and drop a context (EGL where there is one) and end as the test ends:
+    /// run alone (`--exact`), the binary exits while they finish, which is when libglvnd 1.6's
+    /// exit-time teardown raced their thread-exit destructors (a double free; docs/perf-log.md,
+    /// 2026-12-03). One run catches that rarely (about one in a hundred before the fix);
+    /// tools/asan-stress.sh runs it alone `EXIT_RUNS` times.
+    #[test]
+    fn threads_that_end_as_the_process_ends() {
+        const THREADS: u32 = 32;
+        let (tx, rx) = std::sync::mpsc::channel();
+        for t in 0..THREADS {
+            let tx = tx.clone();
+            // Not joined, as libtest does not join its test threads.
+            std::thread::spawn(move || {
+                let ok =
+                    GlContext::headless(BackendChoice::Auto).is_ok_and(|ctx| round_trip(&ctx, t));
+                tx.send(ok).unwrap();
+            });
+        }
+        for _ in 0..THREADS {
+            assert!(rx.recv().unwrap());
+        }
+    }
+
+    /// Whether `backend` has a context current on this thread.
+    fn something_current(backend: BackendChoice) -> bool {
+        match backend {
+            BackendChoice::Osmesa => !osmesa::current_context().is_null(),
+            _ => !egl::current_context().is_null(),
+        }
+    }
+
+    #[test]
+    fn a_dropped_context_is_destroyed_not_left_current() {
+        // eglDestroyContext on a current context only marks it: it would stay current (and
+        // alive) on this thread until the thread ends.
+        for backend in backends() {
+            let ctx = GlContext::headless(backend).unwrap();
+            assert!(something_current(backend), "{backend:?}");
+            drop(ctx);
+            assert!(
+                !something_current(backend),
+                "{backend:?}: still current after drop"
+            );
+        }
+    }
+
+    #[test]
+    fn two_contexts_in_one_thread_tear_down_in_either_order() {
+        for backend in backends() {
+            // The older dropped first: the newer must keep its debug callback and stay current.
+            let older = GlContext::headless(backend).unwrap();
+            let newer = GlContext::headless(backend).unwrap();
+            assert!(round_trip(&newer, 1));
+            drop(older);
+            assert!(
+                round_trip(&newer, 2),
+                "{backend:?}: the newer after the older's drop"
+            );
+            if newer.info.khr_debug {
+                // Two parts: the glGetError code and the KHR_debug message, which only a
+                // callback still installed on this context delivers.
+                let error = provoked_error(&newer);
+                assert_eq!(error.matches("; ").count(), 1, "{backend:?}: {error}");
+            }
+            drop(newer);
+
+            // The newer dropped first: the older is current again.
+            let older = GlContext::headless(backend).unwrap();
+            let newer = GlContext::headless(backend).unwrap();
+            drop(newer);
+            assert!(
+                round_trip(&older, 3),
+                "{backend:?}: the older after the newer's drop"
+            );
+        }
     }
 }

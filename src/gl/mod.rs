@@ -1,5 +1,6 @@
 //! The OpenGL layer: contexts (headless EGL and OSMesa), small owning wrappers for GL objects,
-//! shader programs and named error checks. No raw GL id leaves this module tree.
+//! shader programs, named error checks, and the checked pixel transfers (`transfer`) every
+//! readback and upload goes through. No raw GL id leaves this module tree.
 
 pub mod check;
 pub mod context;
@@ -9,6 +10,7 @@ pub mod limits;
 pub mod objects;
 mod osmesa;
 pub mod program;
+pub mod transfer;
 pub mod window;
 
 pub use check::GlError;

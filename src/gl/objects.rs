@@ -1,6 +1,7 @@
 //! Owning wrappers for the GL objects the passes use. Each owns its id and deletes it in `Drop`.
 
 use super::check::{framebuffer_status_name, GlError};
+use super::transfer::{self, PixelFormat, PixelStore, PixelType};
 use super::Gl;
 use glow::HasContext;
 
@@ -19,20 +20,25 @@ impl TextureFormat {
             TextureFormat::Rgba8 => glow::RGBA8,
         }
     }
-    fn pixel_type(self) -> u32 {
+    /// The component type its uploads use (and its zero fill).
+    fn pixel_type(self) -> PixelType {
         match self {
-            TextureFormat::Rgba32F => glow::FLOAT,
-            TextureFormat::Rgba8 => glow::UNSIGNED_BYTE,
+            TextureFormat::Rgba32F => PixelType::Float,
+            TextureFormat::Rgba8 => PixelType::UnsignedByte,
         }
     }
 }
 
 pub struct Texture {
     gl: Gl,
-    pub raw: glow::Texture,
+    raw: glow::Texture,
     pub width: i32,
     pub height: i32,
     pub format: TextureFormat,
+    /// The size GL allocated for level 0: what `glGetTexImage` writes. Private, so that no
+    /// change to the public fields can make a readback buffer smaller than what GL writes; no
+    /// code outside this type can respecify the image (`raw` is private too).
+    allocated: (i32, i32),
 }
 
 impl Texture {
@@ -44,6 +50,15 @@ impl Texture {
         format: TextureFormat,
         filter: u32,
     ) -> Result<Texture, GlError> {
+        // Refused before anything is made, so a bad size never reaches the transfers.
+        let bytes = transfer::span(
+            width,
+            height,
+            PixelFormat::Rgba,
+            format.pixel_type(),
+            PixelStore::DEFAULT,
+        )
+        .map_err(|e| GlError::Limit(format!("texture of {width}x{height}: {e}")))?;
         unsafe {
             let raw = gl.create_texture().map_err(GlError::Limit)?;
             gl.bind_texture(glow::TEXTURE_2D, Some(raw));
@@ -60,91 +75,74 @@ impl Texture {
                 glow::CLAMP_TO_EDGE as i32,
             );
             gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAX_LEVEL, 0);
-            let zeros = vec![0u8; width as usize * height as usize * 16];
-            gl.tex_image_2d(
-                glow::TEXTURE_2D,
-                0,
-                format.internal() as i32,
+            let zeros = vec![0u8; bytes];
+            let uploaded = transfer::tex_image_2d(
+                gl,
+                format.internal(),
                 width,
                 height,
-                0,
-                glow::RGBA,
+                PixelFormat::Rgba,
                 format.pixel_type(),
-                glow::PixelUnpackData::Slice(Some(&zeros[..Self::bytes(width, height, format)])),
+                &zeros,
             );
             gl.bind_texture(glow::TEXTURE_2D, None);
+            if let Err(e) = uploaded {
+                gl.delete_texture(raw);
+                return Err(GlError::Limit(e.to_string()));
+            }
             Ok(Texture {
                 gl: gl.clone(),
                 raw,
                 width,
                 height,
                 format,
+                allocated: (width, height),
             })
         }
-    }
-
-    fn bytes(width: i32, height: i32, format: TextureFormat) -> usize {
-        // Uploads always use RGBA sources: four floats, or four bytes for RGBA8.
-        let texel = if format == TextureFormat::Rgba8 {
-            4
-        } else {
-            16
-        };
-        width as usize * height as usize * texel
     }
 
     /// Replace the whole image with RGBA float data (rows bottom to top, as GL stores them).
     pub fn upload_f32(&self, rgba: &[f32]) {
         assert_eq!(self.format, TextureFormat::Rgba32F);
-        assert_eq!(rgba.len(), self.width as usize * self.height as usize * 4);
-        unsafe {
-            self.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
-            self.gl.tex_sub_image_2d(
-                glow::TEXTURE_2D,
-                0,
-                0,
-                0,
-                self.width,
-                self.height,
-                glow::RGBA,
-                glow::FLOAT,
-                glow::PixelUnpackData::Slice(Some(as_bytes(rgba))),
-            );
-            self.gl.bind_texture(glow::TEXTURE_2D, None);
-        }
+        let (w, h) = self.allocated;
+        assert_eq!(rgba.len(), w as usize * h as usize * 4);
+        unsafe { self.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw)) };
+        let uploaded = transfer::tex_sub_image_2d(
+            &self.gl,
+            w,
+            h,
+            PixelFormat::Rgba,
+            PixelType::Float,
+            transfer::f32_bytes(rgba),
+        );
+        unsafe { self.gl.bind_texture(glow::TEXTURE_2D, None) };
+        uploaded.expect("the slice holds the whole image (asserted above)");
     }
 
     /// Read the whole image back as RGBA floats (rows bottom to top).
     pub fn read_f32(&self, out: &mut Vec<f32>) {
-        out.resize(self.width as usize * self.height as usize * 4, 0.0);
-        unsafe {
-            self.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
-            self.gl.get_tex_image(
-                glow::TEXTURE_2D,
-                0,
-                glow::RGBA,
-                glow::FLOAT,
-                glow::PixelPackData::Slice(Some(as_bytes_mut(out))),
-            );
-            self.gl.bind_texture(glow::TEXTURE_2D, None);
-        }
+        out.resize(self.texels() * 4, 0.0);
+        self.read(PixelType::Float, transfer::f32_bytes_mut(out));
     }
 
     /// Read the whole image back as RGBA bytes (rows bottom to top).
     pub fn read_u8(&self) -> Vec<u8> {
-        let mut out = vec![0u8; self.width as usize * self.height as usize * 4];
-        unsafe {
-            self.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
-            self.gl.get_tex_image(
-                glow::TEXTURE_2D,
-                0,
-                glow::RGBA,
-                glow::UNSIGNED_BYTE,
-                glow::PixelPackData::Slice(Some(&mut out)),
-            );
-            self.gl.bind_texture(glow::TEXTURE_2D, None);
-        }
+        let mut out = vec![0u8; self.texels() * 4];
+        self.read(PixelType::UnsignedByte, &mut out);
         out
+    }
+
+    fn texels(&self) -> usize {
+        self.allocated.0 as usize * self.allocated.1 as usize
+    }
+
+    /// `glGetTexImage` of the whole image into `out`, checked against the allocated size.
+    fn read(&self, ty: PixelType, out: &mut [u8]) {
+        let (w, h) = self.allocated;
+        unsafe { self.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw)) };
+        let read = transfer::get_tex_image(&self.gl, w, h, PixelFormat::Rgba, ty, out);
+        unsafe { self.gl.bind_texture(glow::TEXTURE_2D, None) };
+        read.expect("the buffer was sized from the allocated image");
     }
 
     pub fn bind(&self, unit: u32) {
@@ -249,22 +247,24 @@ impl Framebuffer {
         }
     }
 
-    /// Read an RGBA float attachment of the bound framebuffer (rows bottom to top).
+    /// Read the `width` x `height` rectangle at the origin of an RGBA float attachment of
+    /// this framebuffer (rows bottom to top). A negative size reads nothing.
     pub fn read_f32(&self, attachment: u32, width: i32, height: i32, out: &mut Vec<f32>) {
+        let (width, height) = (width.max(0), height.max(0));
         out.resize(width as usize * height as usize * 4, 0.0);
         self.bind();
-        unsafe {
-            self.gl.read_buffer(attachment);
-            self.gl.read_pixels(
-                0,
-                0,
-                width,
-                height,
-                glow::RGBA,
-                glow::FLOAT,
-                glow::PixelPackData::Slice(Some(as_bytes_mut(out))),
-            );
-        }
+        unsafe { self.gl.read_buffer(attachment) };
+        transfer::read_pixels(
+            &self.gl,
+            0,
+            0,
+            width,
+            height,
+            PixelFormat::Rgba,
+            PixelType::Float,
+            transfer::f32_bytes_mut(out),
+        )
+        .expect("the buffer was sized for the rectangle");
     }
 
     /// The paper's accumulation step: `glCopyTexSubImage2D` from one colour attachment of this
@@ -351,7 +351,11 @@ impl Mesh {
             let vbo = gl.create_buffer().map_err(GlError::Limit)?;
             gl.bind_vertex_array(Some(vao));
             gl.bind_buffer(glow::ARRAY_BUFFER, Some(vbo));
-            gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, as_bytes(data), glow::STATIC_DRAW);
+            gl.buffer_data_u8_slice(
+                glow::ARRAY_BUFFER,
+                transfer::f32_bytes(data),
+                glow::STATIC_DRAW,
+            );
             for a in attributes {
                 gl.enable_vertex_attrib_array(a.location);
                 gl.vertex_attrib_pointer_f32(
@@ -384,8 +388,11 @@ impl Mesh {
     pub fn replace(&mut self, data: &[f32], floats_per_vertex: i32) {
         unsafe {
             self.gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.vbo));
-            self.gl
-                .buffer_data_u8_slice(glow::ARRAY_BUFFER, as_bytes(data), glow::STREAM_DRAW);
+            self.gl.buffer_data_u8_slice(
+                glow::ARRAY_BUFFER,
+                transfer::f32_bytes(data),
+                glow::STREAM_DRAW,
+            );
             self.gl.bind_buffer(glow::ARRAY_BUFFER, None);
         }
         self.vertex_count = data.len() as i32 / floats_per_vertex;
@@ -478,13 +485,4 @@ impl Drop for Mesh {
             self.gl.delete_buffer(self.vbo);
         }
     }
-}
-
-fn as_bytes(v: &[f32]) -> &[u8] {
-    // f32 has no padding and any bit pattern is a valid u8 sequence.
-    unsafe { std::slice::from_raw_parts(v.as_ptr().cast(), std::mem::size_of_val(v)) }
-}
-
-fn as_bytes_mut(v: &mut [f32]) -> &mut [u8] {
-    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast(), std::mem::size_of_val(v)) }
 }

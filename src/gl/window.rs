@@ -2,6 +2,7 @@
 //! X11 window, glutin (through glutin-winit) the context on EGL, or GLX when EGL has no config.
 //! The solver's passes run on it through `GlContext::from_current`, exactly as headless.
 
+use super::transfer::{self, PixelFormat, PixelType};
 use glow::HasContext;
 use glutin::config::{Config, ConfigTemplateBuilder, GlConfig};
 use glutin::context::{
@@ -124,17 +125,18 @@ impl GlWindow {
         unsafe {
             gl.bind_framebuffer(glow::FRAMEBUFFER, None);
             gl.read_buffer(glow::BACK);
-            gl.pixel_store_i32(glow::PACK_ALIGNMENT, 4);
-            gl.read_pixels(
-                0,
-                0,
-                width as i32,
-                height as i32,
-                glow::RGBA,
-                glow::UNSIGNED_BYTE,
-                glow::PixelPackData::Slice(Some(&mut rgba)),
-            );
         }
+        transfer::read_pixels(
+            gl,
+            0,
+            0,
+            width as i32,
+            height as i32,
+            PixelFormat::Rgba,
+            PixelType::UnsignedByte,
+            &mut rgba,
+        )
+        .expect("the buffer was sized for the rectangle");
         let mut rgb = Vec::with_capacity(w * h * 3);
         for row in (0..h).rev() {
             for px in rgba[row * w * 4..(row + 1) * w * 4].chunks_exact(4) {

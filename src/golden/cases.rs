@@ -201,7 +201,8 @@ pub fn render(ctx: &GlContext, case: &Case) -> Result<Picture> {
             let layout = PatchLayout::try_new(&scene, Resolution::Patches(PATCHES))?;
             let base = match visibility {
                 VisibilityKind::Hemisphere => SolveOptions::paper(),
-                VisibilityKind::Hemicube => SolveOptions::accurate(),
+                // One shot at `res` alone: without the per-shot item-buffer sizes of the default.
+                VisibilityKind::Hemicube => SolveOptions::accurate_alone(),
             };
             let options = SolveOptions {
                 hemi_res: res,

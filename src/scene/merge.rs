@@ -120,6 +120,7 @@ pub fn merge_coplanar(polygons: &mut Vec<Polygon>, size: f32) -> MergeReport {
     }
 
     let mut merged: Vec<(usize, Polygon)> = Vec::with_capacity(regions.len());
+    let positions = corner_positions(polygons, &corner_ids);
     for members in &regions {
         let first = members[0];
         if members.len() == 1 {
@@ -127,8 +128,7 @@ pub fn merge_coplanar(polygons: &mut Vec<Polygon>, size: f32) -> MergeReport {
             continue;
         }
         let outline = outline(members, &corner_ids, &region_of, &neighbour);
-        let positions = corner_positions(polygons, &corner_ids);
-        let vertices: Vec<Vec3> = outline.iter().map(|id| positions[id]).collect();
+        let vertices = without_straight_corners(outline.iter().map(|id| positions[id]).collect());
         let p = &polygons[first];
         match Polygon::new(vertices, p.material, p.object.clone()) {
             // The area must come out as the faces': otherwise the loop is not the region's
@@ -226,6 +226,24 @@ fn outline(
     loop_
 }
 
+/// The outline without the corners where it runs straight on (a tessellated wall's edge passes
+/// through every grid line's corner): the same polygon with far fewer corners to clip and draw.
+fn without_straight_corners(mut loop_: Vec<Vec3>) -> Vec<Vec3> {
+    let mut i = 0;
+    while loop_.len() > 3 && i < loop_.len() {
+        let n = loop_.len();
+        let (a, b, c) = (loop_[(i + n - 1) % n], loop_[i], loop_[(i + 1) % n]);
+        let (u, v) = (b - a, c - b);
+        let straight = u.dot(v) > 0.0 && u.cross(v).length() <= 1e-6 * u.length() * v.length();
+        if straight {
+            loop_.remove(i);
+        } else {
+            i += 1;
+        }
+    }
+    loop_
+}
+
 /// The area-weighted mean normal of `polygons` (for tests).
 #[cfg(test)]
 fn mean_normal(polygons: &[Polygon]) -> DVec3 {
@@ -277,6 +295,8 @@ mod tests {
         assert!((p[0].area - 100.0).abs() < 1e-3, "{}", p[0].area);
         assert!(p[0].normal.y > 0.999);
         assert!(p[0].is_planar(1e-6));
+        // The outline's straight runs through the grid's corners are dropped: a square.
+        assert_eq!(p[0].vertices.len(), 4, "{:?}", p[0].vertices);
     }
 
     #[test]

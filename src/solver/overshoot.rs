@@ -16,6 +16,9 @@ use super::find_max_energy::EnergyTotals;
 use crate::scene::Scene;
 use glam::{DVec3, Vec3};
 
+/// The largest mean reflectance the ambient estimate uses (see `Overshoot::new`).
+const MAX_MEAN_REFLECTANCE: f64 = 0.8;
+
 /// What the ambient estimate needs of the scene, computed once per solve.
 #[derive(Clone, Debug)]
 pub struct Overshoot {
@@ -49,9 +52,12 @@ impl Overshoot {
         } else {
             DVec3::ZERO
         };
-        // Reflectances are below 1 (the loader checks); the clamp keeps a white-walled furnace
-        // finite.
-        let interreflection = (DVec3::ONE - mean.min(DVec3::splat(0.95))).recip();
+        // The estimate assumes a closed room; in an open one (a Cornell box without its front,
+        // a courtyard) less comes back. With white walls (Kd 1, as a published Cornell box has)
+        // 1 / (1 − ρ̄) is 20 or more and each shot's overshoot swings far past the answer: the
+        // unshot power by magnitude grew past twice the emitted power. At most 5 (ρ̄ ≤ 0.8) keeps
+        // every scene's swings bounded and does not change rooms of ordinary reflectance.
+        let interreflection = (DVec3::ONE - mean.min(DVec3::splat(MAX_MEAN_REFLECTANCE))).recip();
         Overshoot {
             reflectance,
             interreflection,
@@ -106,18 +112,27 @@ fn sum(totals: &EnergyTotals) -> DVec3 {
 mod tests {
     use super::*;
 
-    #[test]
-    fn the_remainder_is_minus_reflectance_times_the_others_ambient() {
-        let scene = crate::scene::bundled::find("cornell")
+    fn cornell() -> Scene {
+        crate::scene::bundled::find("cornell")
             .unwrap()
             .load()
-            .unwrap();
+            .unwrap()
+    }
+
+    /// No unshot energy anywhere yet, `patches` per polygon.
+    fn no_energy(n: usize, patches: u32) -> EnergyTotals {
+        EnergyTotals {
+            energy: vec![[0.0; 3]; n],
+            patches: vec![patches; n],
+        }
+    }
+
+    #[test]
+    fn the_remainder_is_minus_reflectance_times_the_others_ambient() {
+        let scene = cornell();
         let n = scene.polygons.len();
         let overshoot = Overshoot::new(&scene, &vec![1; n]);
-        let mut totals = EnergyTotals {
-            energy: vec![[0.0; 3]; n],
-            patches: vec![1; n],
-        };
+        let mut totals = no_energy(n, 1);
         // Only polygon 0 has unshot energy: it overshoots nothing of its own.
         totals.energy[0] = [2.0, 2.0, 2.0];
         assert_eq!(overshoot.remainder(&totals, 0), Vec3::ZERO);
@@ -134,21 +149,34 @@ mod tests {
         }
     }
 
+    /// White walls (Kd 1, as a published Cornell box has) would make the closed-room estimate
+    /// infinite; it stays at most 1 / (1 − 0.8).
+    #[test]
+    fn the_ambient_estimate_stays_bounded_with_white_walls() {
+        let mut scene = cornell();
+        for m in &mut scene.materials {
+            m.kd = Vec3::ONE;
+        }
+        let overshoot = Overshoot::new(&scene, &vec![1; scene.polygons.len()]);
+        assert!(
+            (overshoot.interreflection - DVec3::splat(5.0))
+                .abs()
+                .max_element()
+                < 1e-9,
+            "{}",
+            overshoot.interreflection
+        );
+    }
+
     /// Before the light has shot, only the light may: a polygon that has received nothing would
     /// shoot predicted ambient light alone (a floor far larger than its lamp would go first).
     #[test]
     fn a_polygon_that_received_nothing_is_not_picked() {
-        let scene = crate::scene::bundled::find("cornell")
-            .unwrap()
-            .load()
-            .unwrap();
+        let scene = cornell();
         let n = scene.polygons.len();
         // Every polygon's area huge next to the light's patch: its prediction outweighs the light.
         let overshoot = Overshoot::new(&scene, &vec![1; n]);
-        let mut totals = EnergyTotals {
-            energy: vec![[0.0; 3]; n],
-            patches: vec![1_000; n],
-        };
+        let mut totals = no_energy(n, 1_000);
         let light = scene
             .polygons
             .iter()

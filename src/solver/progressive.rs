@@ -402,8 +402,12 @@ impl<'a, B: Backend> Solver<'a, B> {
             }
             s.texels = move_rect(s.texels, &own.lightmaps[p], &self.layout.lightmaps[p]);
         }
-        // A part with nothing to shoot (and no overshoot to add) costs a pass for nothing.
-        shooters.retain(|s| s.energy != glam::Vec3::ZERO);
+        // A part with nothing to shoot (and no overshoot to add) costs a pass for nothing. A
+        // whole polygon stays (Find_Max_Energy never picks one with nothing; callers that ask
+        // for a given polygon's shooter, as the item-buffer tests do, get it).
+        if cell != 0 {
+            shooters.retain(|s| s.energy != glam::Vec3::ZERO);
+        }
         shooters
     }
 

@@ -1,11 +1,14 @@
 //! The validation suite: the GPU solver against independent answers — closed-form configuration
 //! factors, the furnace, energy balance, a direct (Jacobi) solve of the same discretisation on
 //! the CPU, and convergence under refinement. `radiosity validate` prints the table; the tests in
-//! `tests/validation.rs` run the same checks and require them to pass.
+//! `tests/validation.rs` run the same checks and require them to pass. The references of
+//! `radiosity bench guard` live here too: the exhaustive CPU solve (`guard`) and a path tracer
+//! of the Cornell box (`path_traced`).
 
 mod cases;
 mod direct;
 pub mod guard;
+pub mod path_traced;
 
 pub use cases::*;
 

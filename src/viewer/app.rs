@@ -131,9 +131,10 @@ pub fn run(options: ViewOptions) -> Result<()> {
         None,
         Some(painter.max_texture_side()),
     );
-    let patch_size = match options.patch_size.or(scene.patch_size) {
-        Some(s) => s,
-        None => PatchLayout::try_new(&scene, Resolution::Patches(options.patches))?.patch_size,
+    let resolution = crate::pipeline::resolution(&scene, options.patch_size, options.patches);
+    let patch_size = match resolution {
+        Resolution::PatchSize(s) => s,
+        Resolution::Patches(_) => PatchLayout::try_new(&scene, resolution)?.patch_size,
     };
     let controls = Controls {
         running: options.screenshot.is_some(),

@@ -35,8 +35,9 @@ pub struct ViewOptions {
     pub threshold: f32,
     /// Patch side in scene units; `None`: the scene's `# patch-size`, else about `patches`.
     pub patch_size: Option<f32>,
-    /// Patches in all when no patch size is given. Typical 4096.
-    pub patches: u32,
+    /// Patches in all when no patch size is given; `None`: the default budget
+    /// (`pipeline::default_patches`).
+    pub patches: Option<u32>,
     /// The scene view in pixels (the panel is added beside it). Typical 720x720.
     pub size: (u32, u32),
     /// Radiance multiplier before tone mapping, as `solve --exposure`. Typical 1.

@@ -27,16 +27,6 @@ pub fn context() -> GlContext {
     GlContext::headless(BackendChoice::Auto).expect("a GL 3.0 context (Mesa llvmpipe)")
 }
 
-/// A GL context taken while holding a lock that keeps a test binary's GL-heavy tests from
-/// running at the same time: tests/validation.rs and tests/tuning.rs have each died with SIGSEGV
-/// while their tests ran in parallel, each with its own EGL context on llvmpipe
-/// (docs/perf-log.md); the cause is not found yet. Hold the guard as long as the context.
-pub fn serial_context() -> (std::sync::MutexGuard<'static, ()>, GlContext) {
-    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    let guard = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-    (guard, context())
-}
-
 /// Distance along the ray to the polygon (either side), if it is hit in front of the origin.
 pub fn hit(polygon: &Polygon, origin: Vec3, dir: Vec3) -> Option<f32> {
     let denom = dir.dot(polygon.normal);
@@ -75,20 +65,10 @@ pub fn unoccluded(scene: &Scene, a: Vec3, b: Vec3, skip_a: usize, skip_b: usize)
     })
 }
 
-/// The centres of polygon `p`'s patches: (atlas texel index, world position).
-pub fn patch_centres(layout: &PatchLayout, p: usize) -> Vec<(usize, Vec3)> {
-    let lm = &layout.lightmaps[p];
-    let mut out = Vec::new();
-    for t in 0..lm.h {
-        for s in 0..lm.w {
-            let at = (lm.y + t) as usize * layout.atlas_width as usize + (lm.x + s) as usize;
-            if layout.owner[at] == p as u32 + 1 {
-                out.push((at, lm.world(s as f32 + 0.5, t as f32 + 0.5)));
-            }
-        }
-    }
-    out
-}
+/// The centres of polygon `p`'s patches: (atlas texel index, world position). Not every test
+/// binary uses it.
+#[allow(unused_imports)]
+pub use gpu_radiosity::validate::path_traced::patch_centres;
 
 /// Assert that `value` reads as `quoted`, the figure README.md or paper_notes.md prints for it,
 /// when written with the quoted text's precision: as many decimals, or for a quote such as
@@ -133,4 +113,20 @@ pub fn run_ok<'a>(args: impl IntoIterator<Item = &'a std::ffi::OsStr>) -> String
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     println!("{stdout}");
     stdout
+}
+
+/// OBJ lines of a deeply non-planar face: a zigzag crown of `corners` corners on the unit circle
+/// (heights 0 and 0.5 in turn), material `floor`, facing up, its vertices numbered after the
+/// file's first `before` ones (tests/hostile.rs, tests/shot_balance.rs).
+pub fn zigzag_crown(before: usize, corners: usize) -> String {
+    let mut s = String::from("o crown\nusemtl floor\n");
+    for k in 0..corners {
+        let a = std::f64::consts::TAU * k as f64 / corners as f64;
+        s += &format!("v {} {} {}\n", a.cos(), 0.5 * (k % 2) as f64, a.sin());
+    }
+    s += "f";
+    for k in 0..corners {
+        s += &format!(" {}", before + corners - k);
+    }
+    s + "\n"
 }

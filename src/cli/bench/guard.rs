@@ -1,11 +1,15 @@
-//! `radiosity bench guard`: every speed option on the simple room, its GPU loop time and shots
-//! beside its accuracy (the mean per-patch difference from the exhaustive CPU solution,
-//! `validate::guard`), so that no option is timed without its price in accuracy.
+//! `radiosity bench guard`: every speed option, its GPU loop time and shots beside its accuracy,
+//! so that no option is timed without its price in accuracy. Two accuracies: on the simple room
+//! the mean per-patch difference from the exhaustive CPU solution (`validate::guard`), and on the
+//! Cornell box the worst region against the path-traced reference (`validate::path_traced`).
 
 use super::{gpu_run, median, room, BenchArgs};
+use crate::patches::{PatchLayout, Resolution};
+use crate::scene::bundled;
 use crate::solver::configurations;
 use crate::solver::SolveOptions;
 use crate::validate::guard;
+use crate::validate::path_traced::{self, CORNELL_PATCHES, CORNELL_PATHS};
 use anyhow::Result;
 use std::time::Instant;
 
@@ -18,54 +22,100 @@ struct Row {
     min_hemi_res: u32,
     rotate_item_buffer: bool,
     shooters_per_pass: u32,
+    /// The simple room.
     gpu_loop_s: f64,
     shots: u32,
     /// A fraction; bound: `guard::MEAN_DIFFERENCE_BOUND`.
     mean_patch_difference: f64,
+    /// The Cornell box (4,096 patches).
+    cornell_gpu_loop_s: f64,
+    cornell_shots: u32,
+    /// The region whose polygon differs most from the path-traced reference.
+    cornell_worst_region: &'static str,
+    /// That polygon's |difference| from the reference, a fraction (RGB mean).
+    cornell_worst_difference: f64,
+}
+
+/// The last repeat's figures of one configuration: shots and accuracy on each scene.
+#[derive(Clone, Default)]
+struct Measured {
+    shots: u32,
+    difference: f64,
+    cornell_shots: u32,
+    cornell_region: &'static str,
+    cornell_worst: f64,
 }
 
 pub fn run(args: &BenchArgs) -> Result<()> {
-    let name = "simple";
-    let (scene, layout) = room(name)?;
+    let (scene, layout) = room("simple")?;
+    let cornell = bundled::cornell().load()?;
+    let cornell_layout = PatchLayout::try_new(&cornell, Resolution::Patches(CORNELL_PATCHES))?;
     let configurations = configurations(args.threshold);
     let start = Instant::now();
     let (reference, reference_shots) =
         guard::reference(&scene, &layout, &configurations[0].1, args.threads)?;
     outln!(
-        "reference: CPU solver to {} unshot, {} shots, {:.1} s; bound {} %",
+        "simple room reference: CPU solver to {} unshot, {} shots, {:.1} s; bound {} %",
         guard::REFERENCE_THRESHOLD,
         reference_shots,
         start.elapsed().as_secs_f64(),
         100.0 * guard::MEAN_DIFFERENCE_BOUND
     );
+    let start = Instant::now();
+    let traced = path_traced::Reference::new(&cornell, &cornell_layout, CORNELL_PATHS)?;
+    outln!(
+        "Cornell box reference: path traced, {} paths at each of {} patch centres, {:.1} s; \
+         worst reference standard error {:.2} %",
+        CORNELL_PATHS,
+        cornell_layout.patches_per_polygon.iter().sum::<u32>(),
+        start.elapsed().as_secs_f64(),
+        100.0
+            * traced
+                .polygons
+                .iter()
+                .map(|&(_, noise)| noise)
+                .fold(0.0, f32::max)
+    );
     // A few untimed shots of each fill Mesa's shader cache; then the configurations alternate
     // within each repeat, so that all of them see the same machine.
     for (_, options) in &configurations {
-        gpu_run(
-            args.backend,
-            &scene,
-            &layout,
-            &SolveOptions {
-                max_shots: 10,
-                ..options.clone()
-            },
-        )?;
+        let warm = SolveOptions {
+            max_shots: 10,
+            ..options.clone()
+        };
+        gpu_run(args.backend, &scene, &layout, &warm)?;
+        gpu_run(args.backend, &cornell, &cornell_layout, &warm)?;
     }
     let mut times = vec![Vec::new(); configurations.len()];
-    let mut results = vec![(0, 0.0); configurations.len()];
+    let mut cornell_times = vec![Vec::new(); configurations.len()];
+    let mut results = vec![Measured::default(); configurations.len()];
     for _ in 0..args.repeat {
         for (k, (_, options)) in configurations.iter().enumerate() {
             let (_, run, shots, atlas) = gpu_run(args.backend, &scene, &layout, options)?;
             times[k].push(run);
-            results[k] = (shots, guard::mean_patch_difference(&atlas, &reference));
+            let (_, cornell_run, cornell_shots, cornell_atlas) =
+                gpu_run(args.backend, &cornell, &cornell_layout, options)?;
+            cornell_times[k].push(cornell_run);
+            let comparison =
+                path_traced::compare(&cornell, &cornell_layout, &traced, &cornell_atlas)?;
+            results[k] = Measured {
+                shots,
+                difference: guard::mean_patch_difference(&atlas, &reference),
+                cornell_shots,
+                cornell_region: comparison.worst_row().map_or("", |r| r.region),
+                cornell_worst: comparison.worst as f64,
+            };
         }
     }
-    outln!("| configuration | GPU loop s | shots | mean patch diff |");
-    outln!("|---|---|---|---|");
+    outln!(
+        "| configuration | GPU loop s | shots | mean patch diff | Cornell GPU loop s | Cornell shots | Cornell worst region |"
+    );
+    outln!("|---|---|---|---|---|---|---|");
     let mut rows = Vec::new();
-    for ((name, options), (times, (shots, difference))) in configurations
+    for (((name, options), measured), (times, cornell_times)) in configurations
         .into_iter()
-        .zip(times.into_iter().zip(results))
+        .zip(results)
+        .zip(times.into_iter().zip(cornell_times))
     {
         let row = Row {
             configuration: name,
@@ -76,15 +126,23 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             rotate_item_buffer: options.rotate_item_buffer,
             shooters_per_pass: options.shooters_per_pass,
             gpu_loop_s: median(times),
-            shots,
-            mean_patch_difference: difference,
+            shots: measured.shots,
+            mean_patch_difference: measured.difference,
+            cornell_gpu_loop_s: median(cornell_times),
+            cornell_shots: measured.cornell_shots,
+            cornell_worst_region: measured.cornell_region,
+            cornell_worst_difference: measured.cornell_worst,
         };
         outln!(
-            "| {} | {:.2} | {} | {:.2} % |",
+            "| {} | {:.2} | {} | {:.2} % | {:.2} | {} | {:.2} % ({}) |",
             row.configuration,
             row.gpu_loop_s,
             row.shots,
-            100.0 * row.mean_patch_difference
+            100.0 * row.mean_patch_difference,
+            row.cornell_gpu_loop_s,
+            row.cornell_shots,
+            100.0 * row.cornell_worst_difference,
+            row.cornell_worst_region
         );
         rows.push(row);
     }

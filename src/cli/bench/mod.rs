@@ -1,9 +1,10 @@
 //! `radiosity bench`: timed runs of the solvers.
 //!
 //! - `table1` (`table1.rs`): the paper's Table 1 on this machine, both rooms and both solvers,
-//!   the paper-faithful configuration beside the fast one.
-//! - `guard` (`guard.rs`): every speed option on the simple room, its time beside its accuracy
-//!   against the exhaustive CPU solution (`validate::guard`).
+//!   the paper-faithful configuration beside the default and whole polygons.
+//! - `guard` (`guard.rs`): every speed option, its time beside its accuracy: on the simple room
+//!   against the exhaustive CPU solution (`validate::guard`), on the Cornell box against the
+//!   path-traced reference (`validate::path_traced`).
 //! - `scaling` (`scaling.rs`): seconds, shots and peak memory against the patch count, both
 //!   solvers, with a log-log plot.
 //!
@@ -39,7 +40,7 @@ pub enum ShaderCache {
 #[derive(clap::Args, Debug, Clone)]
 pub struct BenchArgs {
     /// What to benchmark: `table1` (the paper's Table 1, paper-faithful and fast rows), `guard`
-    /// (each speed option's time and accuracy on the simple room), `scaling` (cost against
+    /// (each speed option's time and accuracy on the simple room and the Cornell box), `scaling` (cost against
     /// patch count, both solvers).
     #[arg(value_parser = ["table1", "guard", "scaling"])]
     pub what: String,

@@ -1,6 +1,7 @@
 //! `radiosity bench scaling`: how the cost grows with the patch count. Each room is solved at
 //! `--scales` times its own patch count (the patch side divided by √scale), by both solvers, with
-//! the paper-faithful configuration (`bench_options`; `--configuration fast` for the other),
+//! the paper-faithful configuration (`SolveOptions::paper_faithful`; `--configuration default` or
+//! `"whole polygons"` for the others),
 //! each run in a child process of its own so that its peak memory is its own. A run that has
 //! not converged after `--budget` seconds of shots stops there; its loop time is then
 //! extrapolated, and marked so, from a run of the same room and solver that did converge
