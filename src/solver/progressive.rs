@@ -1,7 +1,7 @@
 //! The progressive refinement loop of section 3.2, written once for both backends:
 //!
 //! ```text
-//! initialise the unshot energy E of every patch (its emission)      -- Backend::new, Ledger::new
+//! initialise the unshot energy E of every patch (its emission)      -- GpuBackend::new, Ledger::new
 //! while not converged:                                               -- Ledger::converged
 //!     shooter = Find_Max_Energy()                                    -- Ledger::max_energy_polygons
 //!     for each cell of the shooter (the paper: the whole polygon):
