@@ -1,9 +1,14 @@
 //! Why a scene does not load. Every message names the file, and the line or the object where
-//! there is one.
+//! there is one. The limits the messages cite live here too, so that the loader's modules
+//! (`mtl`, `load`, `emission`) import this one and it imports none of them.
 
 /// Smallest and largest scene (bounding-box diagonal, scene units) solved accurately.
 pub const MIN_SCENE_SIZE: f32 = 1e-5;
 pub const MAX_SCENE_SIZE: f32 = 1e6;
+
+/// Largest emitted radiance accepted: beyond it power sums (radiance × area × π, summed over
+/// a scene) approach the f32 range and the picture turns to NaN.
+pub const MAX_KE: f32 = 1e15;
 
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
@@ -54,8 +59,20 @@ pub enum SceneError {
     Empty { path: String },
     /// An emission override names a material the scene does not have.
     #[error("{path}: {source}")]
-    Emit {
-        path: String,
-        source: super::emission::EmissionError,
-    },
+    Emit { path: String, source: EmissionError },
+}
+
+/// An emission override the scene cannot take.
+#[derive(Debug, PartialEq, thiserror::Error)]
+pub enum EmissionError {
+    #[error(
+        "cannot make the material '{name}' emit: the scene has no material of that name. Its \
+         materials: {materials}"
+    )]
+    UnknownMaterial { name: String, materials: String },
+    #[error(
+        "cannot make the material '{name}' emit {ke:?}: emitted radiance needs three numbers in \
+         [0, {MAX_KE:e}]"
+    )]
+    Radiance { name: String, ke: [f32; 3] },
 }

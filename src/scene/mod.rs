@@ -16,11 +16,10 @@ mod overlap;
 mod statements;
 mod triangulate;
 
-pub use emission::{Emission, EmissionError, LoadOptions};
-pub use error::{SceneError, MAX_SCENE_SIZE, MIN_SCENE_SIZE};
+pub use emission::{Emission, LoadOptions};
+pub use error::{EmissionError, SceneError, MAX_KE, MAX_SCENE_SIZE, MIN_SCENE_SIZE};
 pub use files::{allow_outside_materials, shown, shown_path, MAX_MTL_BYTES, MAX_OBJ_BYTES};
 pub use load::{load_obj, load_obj_with};
-pub use mtl::MAX_KE;
 pub use triangulate::triangulate;
 
 /// The material of faces that name none, or one no library defines: a neutral grey that does
