@@ -18,6 +18,7 @@ use std::cell::RefCell;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
+/// `radiosity solve`'s flags (`view` shares most of them).
 #[derive(clap::Args, Debug, Clone)]
 pub struct SolveArgs {
     /// OBJ scene (with its MTL); default: the Cornell box built into the binary.
@@ -142,8 +143,10 @@ pub struct SolveArgs {
     /// Camera position, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<Vec3>,
+    /// The point the camera looks at, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub target: Option<Vec3>,
+    /// The camera's up direction, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub up: Option<Vec3>,
     /// Vertical field of view, degrees (1 to 179).

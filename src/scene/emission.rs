@@ -12,6 +12,7 @@ use glam::Vec3;
 pub struct Emission {
     /// The material's name as messages show it (control characters escaped).
     pub material: String,
+    /// Emitted radiance, linear RGB.
     pub ke: [f32; 3],
 }
 

@@ -79,6 +79,7 @@ impl EnergyTotals {
         std::f64::consts::PI * (e[0] + e[1] + e[2]) / 3.0
     }
 
+    /// Σ of every polygon's `power` (negative channels count against it).
     pub fn total_power(&self) -> f64 {
         (0..self.energy.len()).map(|p| self.power(p)).sum()
     }
@@ -104,6 +105,7 @@ impl EnergyTotals {
         largest(self.energy.len(), count, floor, |p| self.magnitude(p))
     }
 
+    /// Polygon `p`'s unshot energy, radiance × area per RGB channel.
     pub fn energy_rgb(&self, p: usize) -> Vec3 {
         let e = self.energy[p];
         Vec3::new(e[0] as f32, e[1] as f32, e[2] as f32)

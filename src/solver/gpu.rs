@@ -23,7 +23,9 @@ pub struct GpuBackend<'a> {
     /// display filtering only).
     dense: PatchLayout,
     visibility_mesh: SceneMesh,
+    /// The visibility pass (item buffers from each shooter).
     pub visibility: VisibilityPass,
+    /// The reconstruction pass (form factors and received energy per patch).
     pub reconstruction: ReconstructionPass,
     lightmaps: Lightmaps,
     options: SolveOptions,

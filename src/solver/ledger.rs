@@ -107,6 +107,7 @@ impl Ledger {
         self.unshot_fraction() <= threshold as f64 || self.shots >= max_shots
     }
 
+    /// Every polygon's unshot energy, as last read back.
     pub fn totals(&self) -> &EnergyTotals {
         &self.totals
     }
@@ -171,6 +172,7 @@ impl Ledger {
         record
     }
 
+    /// Shots so far.
     pub fn shots(&self) -> u32 {
         self.shots
     }
@@ -180,10 +182,12 @@ impl Ledger {
         self.passes
     }
 
+    /// The scene's emitted power (radiance × area × π, RGB mean): the stopping rule's denominator.
     pub fn emitted_power(&self) -> f64 {
         self.emitted_power
     }
 
+    /// Every shot so far, in order.
     pub fn history(&self) -> &[ShotRecord] {
         &self.history
     }
@@ -193,6 +197,7 @@ impl Ledger {
         self.patch_area[polygon]
     }
 
+    /// Area of one patch of each polygon.
     pub fn patch_areas(&self) -> &[f64] {
         &self.patch_area
     }

@@ -9,12 +9,18 @@ use glam::Vec3;
 
 /// Attribute locations, bound before linking (paper 2.2, step 9).
 pub const POSITION: u32 = 0;
+/// See `POSITION`: the polygon's normal.
 pub const NORMAL: u32 = 1;
+/// See `POSITION`: the texel in the atlas.
 pub const LIGHTMAP_UV: u32 = 2;
+/// See `POSITION`: the polygon's ID (the item buffer's colour).
 pub const POLYGON_ID: u32 = 3;
+/// See `POSITION`: the material's Kd.
 pub const REFLECTANCE: u32 = 4;
+/// See `POSITION`: the material's Ke.
 pub const EMISSION: u32 = 5;
 
+/// Each location with the shaders' attribute name, for `glBindAttribLocation`.
 pub const ATTRIBUTES: &[(u32, &str)] = &[
     (POSITION, "Position"),
     (NORMAL, "Normal"),
@@ -106,8 +112,11 @@ pub fn tessellated_data(scene: &Scene, layout: &PatchLayout, max_edge: f32) -> V
 /// transforms each index of a draw once, a third fewer vertices for a quad than three per
 /// triangle.
 pub struct SceneMesh {
+    /// The vertices (shared corners), uploaded.
     pub mesh: Mesh,
+    /// Every polygon's triangles as corner indices, polygon after polygon.
     pub triangles: Vec<u32>,
+    /// Polygon `i`'s triangles: (first index, index count) in `triangles`.
     pub ranges: Vec<(u32, u32)>,
 }
 

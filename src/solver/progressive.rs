@@ -416,19 +416,23 @@ impl<'a, B: Backend> Solver<'a, B> {
         super::item_buffer_side(&self.options, s.power() / self.ledger.emitted_power())
     }
 
+    /// Whether the stopping rule holds: unshot fraction below the threshold, or `max_shots` made.
     pub fn converged(&self) -> bool {
         self.ledger
             .converged(self.options.threshold, self.options.max_shots)
     }
 
+    /// Unshot power over emitted power, as last read back.
     pub fn unshot_fraction(&self) -> f64 {
         self.ledger.unshot_fraction()
     }
 
+    /// The scene's emitted power (radiance × area × π, RGB mean).
     pub fn emitted_power(&self) -> f64 {
         self.ledger.emitted_power()
     }
 
+    /// Shots so far.
     pub fn shots(&self) -> u32 {
         self.ledger.shots()
     }
@@ -438,6 +442,7 @@ impl<'a, B: Backend> Solver<'a, B> {
         self.ledger.passes()
     }
 
+    /// Every shot so far, in order.
     pub fn history(&self) -> &[ShotRecord] {
         self.ledger.history()
     }
@@ -457,18 +462,22 @@ impl<'a, B: Backend> Solver<'a, B> {
         self.ledger.patch_area(polygon)
     }
 
+    /// Area of one patch of each polygon.
     pub fn patch_areas(&self) -> &[f64] {
         self.ledger.patch_areas()
     }
 
+    /// The settings it solves with.
     pub fn options(&self) -> &SolveOptions {
         &self.options
     }
 
+    /// The backend doing the passes (the tests read its passes' counters).
     pub fn backend(&self) -> &B {
         &self.backend
     }
 
+    /// The backend, to change (tests that plant a state).
     pub fn backend_mut(&mut self) -> &mut B {
         &mut self.backend
     }

@@ -47,11 +47,14 @@ use uniforms::{Uniforms, UNITS};
 /// The two lightmap atlases of section 3.1: accumulated and unshot radiance (RGBA32F, alpha =
 /// polygon ID + 1). The reconstruction pass samples them; the copies after it replace them.
 pub struct Lightmaps {
+    /// Accumulated radiance: what the display shows.
     pub radiosity: Texture,
+    /// Unshot radiance: what each polygon has left to shoot.
     pub unshot: Texture,
 }
 
 impl Lightmaps {
+    /// Both atlases, `width` x `height`, zero.
     pub fn new(ctx: &GlContext, width: i32, height: i32) -> Result<Self, GlError> {
         let make = || {
             Texture::new(
@@ -140,6 +143,8 @@ fn draw_flat(
     }
 }
 
+/// The reconstruction pass (3.2.2): every receiving patch's ΔL = ρ·F·E from the shooters whose
+/// item buffers see it, drawn over the atlas into renderbuffers, then added to the lightmaps.
 pub struct ReconstructionPass {
     programs: Programs,
     target: Renderbuffers,

@@ -38,8 +38,11 @@ use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
 use plates::Plates;
 
+/// The visibility pass (3.2.2): the scene drawn from a shooter into an item buffer of polygon
+/// IDs, which the reconstruction pass reads to tell whether a receiver is seen.
 pub struct VisibilityPass {
     program: Program,
+    /// Hemicube or hemispherical projection.
     pub kind: VisibilityKind,
     /// The item buffers, one per shooter of a reconstruction pass (`with_slots`; one in the
     /// paper), each with its depth buffer and FBO.
@@ -138,6 +141,7 @@ pub fn item_buffer_size(kind: VisibilityKind, res: u32) -> (u64, u64) {
 }
 
 impl VisibilityPass {
+    /// A pass with one item buffer (the paper's: one shooter per pass).
     pub fn new(
         ctx: &GlContext,
         kind: VisibilityKind,

@@ -11,6 +11,7 @@ use crate::solver::mesh::push_polygon;
 use glam::Vec3;
 use std::collections::HashMap;
 
+/// The plates of a scene: which polygon stands for each, and the merged outlines drawn.
 #[derive(Clone, Debug, Default)]
 pub struct Plates {
     /// Per polygon: the first polygon of its plate (itself if it is alone).
