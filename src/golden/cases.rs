@@ -75,7 +75,7 @@ pub struct Picture {
     pub width: u32,
     /// Height, pixels.
     pub height: u32,
-    /// RGB, three floats per pixel, rows top to bottom (IDs: the ID in red).
+    /// RGB, three floats per pixel (IDs: polygon ID + 1 in each channel, 0 for none).
     pub rgb: Vec<f32>,
     /// How it is compared with its reference.
     pub metric: Metric,
