@@ -2,9 +2,9 @@
 //! the command line (`crate::cli`), which sits on top of the library.
 //!
 //! The rule, kept simple: a module is a file of `src/` (`a/mod.rs` is `a`); it imports module
-//! *m* when its code (comments left out) names `crate::m…` or `super::m…` (also inside
-//! `use super::{…}` and `use crate::{…}` lists), resolved to the longest module path that
-//! exists. A module's own ancestors and descendants do not count (a parent declares its
+//! *m* when its code (comments left out) names `crate::` or `super::` followed by *m* (also
+//! inside `use super::{…}` and `use crate::{…}` lists), resolved to the longest module path
+//! that exists. A module's own ancestors and descendants do not count (a parent declares its
 //! children; a child may use what its parent re-exports).
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -75,7 +75,7 @@ fn named_paths(text: &str) -> Vec<(&'static str, String)> {
             }
             let rest = &code[i + prefix.len()..];
             if let Some(list) = rest.strip_prefix('{') {
-                // `use super::{a, b::c}`: each name of the list.
+                // A `use super::{…}` list: each of its paths.
                 let list = &list[..list.find('}').unwrap_or(list.len())];
                 for item in list.split(',') {
                     let item = item.trim();
@@ -91,7 +91,7 @@ fn named_paths(text: &str) -> Vec<(&'static str, String)> {
     paths
 }
 
-/// The path (`a::b::c`) at the start of `s`.
+/// The path (names joined by `::`) at the start of `s`.
 fn path_at(s: &str) -> String {
     let end = s
         .find(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'))
