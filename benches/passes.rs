@@ -44,7 +44,7 @@ fn passes(c: &mut Criterion) {
     )
     .unwrap();
     // As the solver draws it: coplanar neighbours as plates (hemicube, robust test).
-    let plates = mesh::plate_data(&scene, &layout, visibility.merge_plates(&scene));
+    let plates = visibility.merge_plates(&scene).vertex_data(&scene, &layout);
     let geometry = mesh::upload_scene(&ctx.gl, &plates, scene.polygons.len()).unwrap();
     let patches = mesh::upload(&ctx.gl, &mesh::vertex_data(&scene, &layout)).unwrap();
     let mut reconstruction = ReconstructionPass::new(&ctx, &scene, &layout, &options).unwrap();
@@ -94,7 +94,7 @@ fn passes(c: &mut Criterion) {
         b.iter(|| {
             let width = layout.atlas_width as usize;
             totals.update(&unshot, width, &texels, &all, &areas);
-            totals.find_max_energy(0.0)
+            totals.max_energy_polygons(0.0, 1)
         })
     });
     group.bench_function("GPU shot", |b| {

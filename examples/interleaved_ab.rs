@@ -122,7 +122,7 @@ fn main() {
         marked(0),
         marked(1)
     );
-    let missed = |k: usize| solvers[k].backend().visibility.missed;
+    let missed = |k: usize| solvers[k].backend().visibility.missed();
     println!(
         "polygon views left out between pixel centres: A {}, B {}",
         missed(0),

@@ -54,27 +54,6 @@ uniform int PlanesWidth;           // a power of two (llvmpipe divides integers 
 uniform int PlanesShift;           // log2(PlanesWidth)
 uniform float PlaneSlack;          // world units: how far beyond a plane counts as behind it
 
-// EACH_SHOOTER(X) expands X(0) ... X(SHOOTERS - 1): the shooters unrolled by hand, so that every
-// uniform array index is a constant (GLSL 1.30 indexes sampler arrays with constants only, and
-// llvmpipe fetches other arrays indexed at run time lane by lane).
-#if SHOOTERS == 1
-#define EACH_SHOOTER(X) X(0)
-#elif SHOOTERS == 2
-#define EACH_SHOOTER(X) X(0) X(1)
-#elif SHOOTERS == 3
-#define EACH_SHOOTER(X) X(0) X(1) X(2)
-#elif SHOOTERS == 4
-#define EACH_SHOOTER(X) X(0) X(1) X(2) X(3)
-#elif SHOOTERS == 5
-#define EACH_SHOOTER(X) X(0) X(1) X(2) X(3) X(4)
-#elif SHOOTERS == 6
-#define EACH_SHOOTER(X) X(0) X(1) X(2) X(3) X(4) X(5)
-#elif SHOOTERS == 7
-#define EACH_SHOOTER(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6)
-#else
-#define EACH_SHOOTER(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7)
-#endif
-
 out vec4 NewRadiosity;
 out vec4 NewUnshot;
 
@@ -162,7 +141,8 @@ float EdgeTerm(vec3 a, vec3 b)
 // shooter above its tangent plane, so nothing needs clipping. llvmpipe runs both sides of every
 // branch, even one on a uniform, so the host compiles this file twice and draws the blocks that
 // need no clipping with the cheaper variant. Where nothing is clipped both compute the same sum,
-// up to float rounding (tests/reconstruction_cover.rs).
+// up to float rounding (tests/tuning.rs:
+// skipping_needless_clipping_changes_nothing_but_float_noise).
 #ifndef SHOOTER_ABOVE
 #define SHOOTER_ABOVE 0
 #endif
@@ -284,6 +264,27 @@ void ShootsFrom(ivec2 texel, int k)
     Remainder = s ? ShooterRemainder[k] : Remainder;
 }
 
+// The shooters one by one, each with constant array indices (GLSL 1.30 indexes sampler arrays
+// with constants only, and llvmpipe fetches other arrays indexed at run time lane by lane). The
+// host writes their bodies for SHOOTERS shooters and appends them to this file
+// (`reconstruction::programs::per_shooter_functions`); for SHOOTERS = 2 they read:
+//
+//   void ShootsFromEach(ivec2 texel) { ShootsFrom(texel, 0); ShootsFrom(texel, 1); }
+//   bool ReceivesFromAny()
+//   {
+//       return Receives(0, HemiItemBuffer[0]) || Receives(1, HemiItemBuffer[1]);
+//   }
+//   vec3 ReceivedFromEach()
+//   {
+//       vec3 delta = vec3(0.0);
+//       delta += Received(0, HemiItemBuffer[0]);
+//       delta += Received(1, HemiItemBuffer[1]);
+//       return delta;
+//   }
+void ShootsFromEach(ivec2 texel); // sets Shooting and Remainder (ShootsFrom, each shooter)
+bool ReceivesFromAny();           // whether any shooter of the pass reaches this patch
+vec3 ReceivedFromEach();          // ΔL: the sum of what each shooter sends this patch
+
 void main()
 {
     ivec2 texel = ivec2(gl_FragCoord.xy);
@@ -291,18 +292,14 @@ void main()
     RecvPos = position.xyz;
     RecvId = position.w - 1.0;
     RecvPatch = position.w != 0.0;
-#define SHOOTS_FROM(k) ShootsFrom(texel, k);
-    EACH_SHOOTER(SHOOTS_FROM)
+    ShootsFromEach(texel);
 #if MARK
-#define OR_RECEIVES(k) || Receives(k, HemiItemBuffer[k])
-    if (!(Shooting EACH_SHOOTER(OR_RECEIVES)))
+    if (!(Shooting || ReceivesFromAny()))
         discard;
 #else
     RecvNormal = texelFetch(PatchNormal, texel, 0).xyz;
     RecvColor = texelFetch(PatchReflectance, texel, 0).rgb;
-    vec3 delta = vec3(0.0);
-#define ADD_RECEIVED(k) delta += Received(k, HemiItemBuffer[k]);
-    EACH_SHOOTER(ADD_RECEIVED)
+    vec3 delta = ReceivedFromEach();
 #if MARKED
     if (!Shooting && all(equal(delta, vec3(0.0))))
         discard;   // adds nothing: the renderbuffers keep the last copy's value

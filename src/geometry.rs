@@ -7,7 +7,9 @@ use glam::{Vec2, Vec3};
 /// A plane `normal·x = offset` (a unit normal; which side is "in front" is the caller's).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Plane {
+    /// The unit normal.
     pub normal: Vec3,
+    /// `normal·x` on the plane.
     pub offset: f32,
 }
 

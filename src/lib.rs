@@ -8,6 +8,8 @@
 //! example, and `examples/solve_cornell.rs`); [`gl`] holds the contexts and GL object wrappers;
 //! [`cli`] the command line.
 
+#![warn(missing_docs)]
+
 pub mod cli;
 pub mod display;
 pub mod geometry;

@@ -70,11 +70,14 @@ pub enum SolverKind {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Mode {
+    /// The paper as written (`SolveOptions::paper`).
     Paper,
+    /// With the corrections and speed options (`SolveOptions::accurate`): the default.
     Accurate,
 }
 
 impl Mode {
+    /// Its solver settings.
     pub fn options(self) -> SolveOptions {
         match self {
             Mode::Paper => SolveOptions::paper(),
@@ -82,6 +85,7 @@ impl Mode {
         }
     }
 
+    /// Its name on the command line and in stats.json.
     pub fn name(self) -> &'static str {
         match self {
             Mode::Paper => "paper",
@@ -93,10 +97,13 @@ impl Mode {
 /// Settings a solve cannot run with, in the library's terms.
 #[derive(Debug, thiserror::Error)]
 pub enum SettingsError {
+    /// A stopping threshold outside (0, 1).
     #[error("the threshold {0} must be between 0 and 1 (exclusive)")]
     Threshold(f32),
+    /// A patch size that is not a positive number.
     #[error("the patch size {0} must be a positive number of scene units")]
     PatchSize(f32),
+    /// A patch count of zero.
     #[error("the patch count must be at least 1")]
     Patches,
 }
@@ -147,7 +154,9 @@ pub enum Target {
 #[derive(Debug, thiserror::Error)]
 #[error("{error}")]
 pub struct TargetTooLarge {
+    /// The target (atlas, item buffer, image).
     pub target: Target,
+    /// The limit it runs into.
     pub error: LimitError,
 }
 
@@ -241,13 +250,17 @@ pub struct Solution {
     pub unshot: Vec<f32>,
     /// Area of one patch of each polygon.
     pub patch_area: Vec<f64>,
+    /// Shots made.
     pub shots: u32,
     /// Visibility + reconstruction pass pairs.
     pub passes: u32,
+    /// Unshot power over emitted power at the end.
     pub unshot_fraction: f64,
+    /// Emitted power of the scene (radiance × area × π, summed over RGB).
     pub emitted_power: f64,
     /// Seconds per named pass.
     pub pass_seconds: PassTimes,
+    /// Each shot's record, in order.
     pub history: Vec<ShotRecord>,
     /// Shots that reflected more than they carried and were scaled back (`SolveOptions::conserve`).
     pub corrections: u32,
@@ -394,36 +407,52 @@ pub fn render_smoothed(
 /// Everything `stats.json` holds (docs/conventions.md's contract, plus timings and settings).
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Stats {
+    /// The scene's file, as the user named it (or the bundled scene's name).
     pub scene: String,
     /// Faces of the file...
     pub faces: usize,
     /// ...and the polygons they became (connected coplanar faces of one material merged).
     pub polygons: usize,
+    /// Vertices of the file.
     pub vertices: usize,
+    /// Polygons of emitting materials.
     pub lights: usize,
+    /// Patches of the layout.
     pub patches: u64,
+    /// Patch size, scene units.
     pub patch_size: f32,
+    /// The atlas's width and height, texels.
     pub atlas: [u32; 2],
+    /// Which solver ran.
     pub solver: SolverKind,
+    /// The mode's settings the run started from.
     pub mode: Mode,
+    /// The GL backend (`egl`, `osmesa`).
     pub backend: &'static str,
+    /// GL_VENDOR.
     pub gl_vendor: String,
+    /// GL_RENDERER.
     pub gl_renderer: String,
+    /// GL_VERSION.
     pub gl_version: String,
     /// threshold, max_shots and the pass settings.
     #[serde(flatten)]
     pub options: SolveOptions,
     /// Emission overrides applied after loading (`--emit`), in order.
     pub emit: Vec<Emission>,
+    /// Shots made.
     pub shots: u32,
     /// Visibility + reconstruction pass pairs (one per shooter cell of each shot).
     pub passes: u32,
     /// Shots scaled back because they reflected more than they carried (`SolveOptions::conserve`).
     pub corrections: u32,
+    /// Seconds of the solve loop (loading, layout and images not counted).
     pub solve_seconds: f64,
     /// Worker threads of the CPU solver.
     pub threads: Option<usize>,
+    /// Unshot power over emitted power at the end.
     pub unshot_fraction: f64,
+    /// Emitted power of the scene (radiance × area × π, summed over RGB).
     pub emitted_power: f64,
     /// The ambient radiance added to the images (with the ambient term), RGB.
     pub ambient: Option<[f32; 3]>,
@@ -433,6 +462,7 @@ pub struct Stats {
     pub smoothed_polygons: usize,
     /// Seconds per pass, by name.
     pub pass_seconds: PassTimes,
+    /// Each shot's record, in order.
     pub history: Vec<ShotRecord>,
 }
 
@@ -440,13 +470,19 @@ pub struct Stats {
 pub struct Run<'a> {
     /// The scene's file, as the user named it (or the bundled scene's name).
     pub scene_name: String,
+    /// The scene solved.
     pub scene: &'a Scene,
+    /// Its patch layout.
     pub layout: &'a PatchLayout,
+    /// Which solver ran.
     pub solver: SolverKind,
+    /// The mode the settings came from.
     pub mode: Mode,
+    /// The settings the solve used.
     pub options: SolveOptions,
     /// The emission overrides the scene was loaded with.
     pub emit: &'a [Emission],
+    /// The GL driver (also for the CPU solver, which renders the images on it).
     pub gl: &'a GlInfo,
     /// CPU worker threads, for the CPU solver.
     pub threads: Option<usize>,
@@ -455,6 +491,7 @@ pub struct Run<'a> {
 }
 
 impl Stats {
+    /// The statistics of `solution` solved as `run` says, with the images' ambient term.
     pub fn new(run: Run, solution: &Solution, ambient: Option<Vec3>) -> Stats {
         let (scene, layout) = (run.scene, run.layout);
         Stats {

@@ -1,4 +1,4 @@
-//! Golden images (src/golden.rs): the bundled scenes in both modes, rendered small, against
+//! Golden images (src/golden/): the bundled scenes in both modes, rendered small, against
 //! tests/golden/. `UPDATE_GOLDEN=1 cargo test --release --test golden` regenerates them on
 //! purpose; a failure writes difference images to target/golden-diff/.
 

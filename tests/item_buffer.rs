@@ -310,8 +310,7 @@ fn plates_show_the_same_planes() {
         199,
         "polygons drawn as part of another"
     );
-    let plated =
-        mesh::upload_scene(&ctx.gl, &mesh::plate_data(&scene, &layout, &plates), n).unwrap();
+    let plated = mesh::upload_scene(&ctx.gl, &plates.vertex_data(&scene, &layout), n).unwrap();
     let geometry = mesh::upload_scene(&ctx.gl, &mesh::vertex_data(&scene, &layout), n).unwrap();
     let mut single = pass().unwrap();
     let (runs, pixels, differ) = item_buffers_differ(

@@ -380,9 +380,9 @@ fn leaving_out_polygons_between_pixel_centres_changes_no_pixel() {
         }
     }
     assert_eq!(culled.radiosity_atlas(), whole.radiosity_atlas());
-    let missed = culled.backend().visibility.missed;
+    let missed = culled.backend().visibility.missed();
     assert!(missed > 1000, "{missed} polygon views left out");
-    assert_eq!(whole.backend().visibility.missed, 0);
+    assert_eq!(whole.backend().visibility.missed(), 0);
 }
 
 #[test]

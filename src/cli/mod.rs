@@ -19,6 +19,7 @@ use clap::{Parser, Subcommand};
 
 pub use solve::{run_solve, SolveArgs};
 
+/// The command line: a subcommand and the flags every subcommand takes.
 #[derive(Parser, Debug)]
 #[command(
     name = "radiosity",
@@ -26,6 +27,7 @@ pub use solve::{run_solve, SolveArgs};
     about = "Progressive refinement radiosity on the GPU (OpenGL 3.0, GLSL 1.30)"
 )]
 pub struct Cli {
+    /// What to do.
     #[command(subcommand)]
     pub command: Command,
     /// Let a scene's `mtllib` lines name files outside the scene's folder (absolute paths,
@@ -34,6 +36,7 @@ pub struct Cli {
     pub allow_outside_materials: bool,
 }
 
+/// The subcommands.
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Solve a scene and write image.png, image.exr, lightmap.exr and stats.json.
@@ -56,6 +59,7 @@ pub enum Command {
 #[error("{0}")]
 pub struct UsageError(pub String);
 
+/// Run the parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     crate::scene::allow_outside_materials(cli.allow_outside_materials);
     match cli.command {

@@ -4,6 +4,7 @@ use super::{values, UsageError};
 use crate::display;
 use crate::display::output_set::OutputSet;
 use crate::gl::{BackendChoice, GlContext, GlInfo};
+use crate::patches::PatchLayout;
 use crate::pipeline::{self, SettingsError, Stats, Target};
 pub use crate::pipeline::{Mode, SolverKind};
 use crate::scene::{Camera, Emission, LoadOptions, Scene, SceneError};
@@ -17,6 +18,7 @@ use std::cell::RefCell;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
+/// `radiosity solve`'s flags (`view` shares most of them).
 #[derive(clap::Args, Debug, Clone)]
 pub struct SolveArgs {
     /// OBJ scene (with its MTL); default: the Cornell box built into the binary.
@@ -141,8 +143,10 @@ pub struct SolveArgs {
     /// Camera position, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<Vec3>,
+    /// The point the camera looks at, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub target: Option<Vec3>,
+    /// The camera's up direction, X,Y,Z (default: the scene's camera).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub up: Option<Vec3>,
     /// Vertical field of view, degrees (1 to 179).
@@ -288,11 +292,16 @@ pub(crate) fn check_solve_settings(
     })
 }
 
+/// What `solve` made: its statistics (as written to stats.json) and where the files went.
 pub struct SolveOutcome {
+    /// The run's statistics, as written to stats.json.
     pub stats: Stats,
+    /// The folder the outputs were published in.
     pub out_dir: PathBuf,
 }
 
+/// `radiosity solve`: load the scene, lay out the patches, solve, render and publish the outputs
+/// together (or none of them).
 pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     // First: a signal from here on removes what this run staged and exits 1.
     display::output_set::exit_on_signals()?;
@@ -302,111 +311,18 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     // Without a `# camera` line, chosen by casting rays into the scene: once.
     let camera = camera_from(args, scene.camera_or_default());
     check_camera(args, &scene, &camera)?;
-    let out_dir = args
-        .out
-        .clone()
-        .unwrap_or_else(|| Path::new("out").join(&scene.name));
-    std::fs::create_dir_all(&out_dir)
-        .with_context(|| format!("cannot create the output directory {}", out_dir.display()))?;
-    if args.solver == SolverKind::Cpu && !args.dump_passes.is_empty() {
-        bail!("--dump-passes pictures the GPU passes: use it with --solver gpu");
-    }
-    if args.options().shooters_per_pass > 1 && !args.dump_passes.is_empty() {
-        bail!(
-            "--dump-passes pictures one shooter's passes per shot: use it with \
-             --shooters-per-pass 1"
-        );
-    }
+    let out_dir = output_dir(args, &scene)?;
+    check_dump_passes(args)?;
     // Before the solve: an unwritable folder fails now, not after it. Every file goes in here and
     // is published together at the end.
     let set = OutputSet::begin(&out_dir)?;
 
-    let layout = pipeline::lay_out(&scene, args.patch_size, args.patches)?;
-    eprintln!(
-        "patches: {} at patch size {:.4}, from {}",
-        layout.patch_count(),
-        layout.patch_size,
-        pipeline::resolution_and_reason(&scene, args.patch_size, args.patches).1
-    );
-    // A patch size (from the flag or the scene) can ask for more patches than --patches may.
-    if layout.patch_count() > values::MAX_PATCHES as u64 {
-        bail!(
-            "the patch size {} gives {} patches, more than {} (the most --patches allows): use \
-             a larger --patch-size",
-            layout.patch_size,
-            layout.patch_count(),
-            values::MAX_PATCHES
-        );
-    }
+    let layout = lay_out(args, &scene)?;
     let ctx = GlContext::headless(args.backend)?;
-    let info: &GlInfo = &ctx.info;
-    eprintln!(
-        "backend {}: {} | {} | {}",
-        info.backend.name(),
-        info.vendor,
-        info.renderer,
-        info.version
-    );
-    eprintln!(
-        "scene {}: {}, {} vertices, {} lights, {} patches (patch size {:.4}, atlas {}x{})",
-        scene.name,
-        faces_and_polygons(&scene),
-        scene.vertex_count,
-        scene.light_count(),
-        layout.patch_count(),
-        layout.patch_size,
-        layout.atlas_width,
-        layout.atlas_height
-    );
-
+    report_setup(&ctx.info, &scene, &layout);
     let options = args.options();
-    pipeline::check_limits(&ctx, &layout, args.solver, &options, args.size).map_err(|e| {
-        let flags = match e.target {
-            Target::Atlas => "--patch-size / --patches",
-            Target::ItemBuffer => "--hemi-res",
-            Target::Image => "--size",
-        };
-        anyhow::anyhow!("{e} (set with {flags})")
-    })?;
-    let bar = progress_bar(args.threshold());
-    let progress = |r: &ShotRecord| {
-        bar.set_position(progress_position(r.unshot_fraction, args.threshold()));
-        bar.set_message(format!("shot {} unshot {:.4}", r.shot, r.unshot_fraction));
-    };
-    let solution = if args.dump_passes.is_empty() {
-        let (kind, threads) = (args.solver, args.threads);
-        pipeline::solve(
-            &ctx,
-            &scene,
-            &layout,
-            kind,
-            options.clone(),
-            threads,
-            progress,
-        )
-        .map_err(with_flags)?
-    } else {
-        // The GPU solve with the pictures of the listed shots written on the way.
-        let mut solver =
-            GpuSolver::new(&ctx, &scene, &layout, options.clone()).map_err(with_flags)?;
-        // Both hooks use the dumps, one after the other.
-        let dumps = RefCell::new(display::passes::PassDumps::new(&args.dump_passes, &set));
-        solver.solve_with(
-            |s| dumps.borrow_mut().before_shot(s),
-            |s, record| -> Result<()> {
-                dumps
-                    .borrow_mut()
-                    .after_shot(s, &scene, &layout, record)
-                    .with_context(|| {
-                        format!("while writing the pictures of shot {}", record.shot)
-                    })?;
-                progress(record);
-                Ok(())
-            },
-        )?;
-        pipeline::Solution::of(&solver)
-    };
-    bar.finish_and_clear();
+    check_limits(args, &ctx, &layout, &options)?;
+    let solution = solve(args, &ctx, &scene, &layout, &options, &set)?;
     solution
         .check_light_reaches(&scene)
         .with_context(|| scene_name.clone())?;
@@ -422,15 +338,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     if let Some(l) = ambient {
         eprintln!("ambient term: {:.5} {:.5} {:.5}", l.x, l.y, l.z);
     }
-    let smoothing = display::Smoothing::new(&scene, &layout, args.smooth_angle);
-    if smoothing.smoothed_polygons() > 0 {
-        eprintln!(
-            "smooth shading: {} polygons of curved surfaces (faces of one material meeting at \
-             less than {}°, --smooth-angle)",
-            smoothing.smoothed_polygons(),
-            smoothing.angle()
-        );
-    }
+    let smoothing = smoothing(args, &scene, &layout);
     let image = pipeline::render_smoothed(
         &ctx, &scene, &layout, &atlas, &smoothing, &camera, args.size,
     )?;
@@ -442,7 +350,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         mode: args.mode,
         options,
         emit: &args.emit,
-        gl: info,
+        gl: &ctx.info,
         threads: (args.solver == SolverKind::Cpu).then(|| rayon_threads(args.threads)),
         smoothing: &smoothing,
     };
@@ -455,6 +363,149 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     set.publish()?;
     eprintln!("wrote {}", out_dir.display());
     Ok(SolveOutcome { stats, out_dir })
+}
+
+/// The output folder (`--out`, or out/SCENE), created.
+fn output_dir(args: &SolveArgs, scene: &Scene) -> Result<PathBuf> {
+    let out_dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| Path::new("out").join(&scene.name));
+    std::fs::create_dir_all(&out_dir)
+        .with_context(|| format!("cannot create the output directory {}", out_dir.display()))?;
+    Ok(out_dir)
+}
+
+/// `--dump-passes` pictures one GPU shooter's passes per shot: refused with the CPU solver or
+/// with several shooters per pass.
+fn check_dump_passes(args: &SolveArgs) -> Result<()> {
+    if args.solver == SolverKind::Cpu && !args.dump_passes.is_empty() {
+        bail!("--dump-passes pictures the GPU passes: use it with --solver gpu");
+    }
+    if args.options().shooters_per_pass > 1 && !args.dump_passes.is_empty() {
+        bail!(
+            "--dump-passes pictures one shooter's passes per shot: use it with \
+             --shooters-per-pass 1"
+        );
+    }
+    Ok(())
+}
+
+/// The patch layout the flags or the scene ask for, reported on stderr with its reason.
+fn lay_out(args: &SolveArgs, scene: &Scene) -> Result<PatchLayout> {
+    let layout = pipeline::lay_out(scene, args.patch_size, args.patches)?;
+    eprintln!(
+        "patches: {} at patch size {:.4}, from {}",
+        layout.patch_count(),
+        layout.patch_size,
+        pipeline::resolution_and_reason(scene, args.patch_size, args.patches).1
+    );
+    // A patch size (from the flag or the scene) can ask for more patches than --patches may.
+    if layout.patch_count() > values::MAX_PATCHES as u64 {
+        bail!(
+            "the patch size {} gives {} patches, more than {} (the most --patches allows): use \
+             a larger --patch-size",
+            layout.patch_size,
+            layout.patch_count(),
+            values::MAX_PATCHES
+        );
+    }
+    Ok(layout)
+}
+
+/// The GL driver and the scene's sizes, on stderr.
+fn report_setup(info: &GlInfo, scene: &Scene, layout: &PatchLayout) {
+    eprintln!(
+        "backend {}: {} | {} | {}",
+        info.backend.name(),
+        info.vendor,
+        info.renderer,
+        info.version
+    );
+    eprintln!(
+        "scene {}: {}, {} vertices, {} lights, {} patches (patch size {:.4}, atlas {}x{})",
+        scene.name,
+        faces_and_polygons(scene),
+        scene.vertex_count,
+        scene.light_count(),
+        layout.patch_count(),
+        layout.patch_size,
+        layout.atlas_width,
+        layout.atlas_height
+    );
+}
+
+/// The driver's limits against the atlas, the item buffer and the image, naming the flags.
+fn check_limits(
+    args: &SolveArgs,
+    ctx: &GlContext,
+    layout: &PatchLayout,
+    options: &SolveOptions,
+) -> Result<()> {
+    pipeline::check_limits(ctx, layout, args.solver, options, args.size).map_err(|e| {
+        let flags = match e.target {
+            Target::Atlas => "--patch-size / --patches",
+            Target::ItemBuffer => "--hemi-res",
+            Target::Image => "--size",
+        };
+        anyhow::anyhow!("{e} (set with {flags})")
+    })
+}
+
+/// The solve with a progress bar; with `--dump-passes`, the GPU solve with the pictures of the
+/// listed shots written into `set` on the way.
+fn solve(
+    args: &SolveArgs,
+    ctx: &GlContext,
+    scene: &Scene,
+    layout: &PatchLayout,
+    options: &SolveOptions,
+    set: &OutputSet,
+) -> Result<pipeline::Solution> {
+    let bar = progress_bar(args.threshold());
+    let progress = |r: &ShotRecord| {
+        bar.set_position(progress_position(r.unshot_fraction, args.threshold()));
+        bar.set_message(format!("shot {} unshot {:.4}", r.shot, r.unshot_fraction));
+    };
+    let solution = if args.dump_passes.is_empty() {
+        let (kind, threads) = (args.solver, args.threads);
+        pipeline::solve(ctx, scene, layout, kind, options.clone(), threads, progress)
+            .map_err(with_flags)?
+    } else {
+        let mut solver = GpuSolver::new(ctx, scene, layout, options.clone()).map_err(with_flags)?;
+        // Both hooks use the dumps, one after the other.
+        let dumps = RefCell::new(display::passes::PassDumps::new(&args.dump_passes, set));
+        solver.solve_with(
+            |s| dumps.borrow_mut().before_shot(s),
+            |s, record| -> Result<()> {
+                dumps
+                    .borrow_mut()
+                    .after_shot(s, scene, layout, record)
+                    .with_context(|| {
+                        format!("while writing the pictures of shot {}", record.shot)
+                    })?;
+                progress(record);
+                Ok(())
+            },
+        )?;
+        pipeline::Solution::of(&solver)
+    };
+    bar.finish_and_clear();
+    Ok(solution)
+}
+
+/// Smooth shading's normals (`--smooth-angle`), reported when some polygons have them.
+fn smoothing(args: &SolveArgs, scene: &Scene, layout: &PatchLayout) -> display::Smoothing {
+    let smoothing = display::Smoothing::new(scene, layout, args.smooth_angle);
+    if smoothing.smoothed_polygons() > 0 {
+        eprintln!(
+            "smooth shading: {} polygons of curved surfaces (faces of one material meeting at \
+             less than {}°, --smooth-angle)",
+            smoothing.smoothed_polygons(),
+            smoothing.angle()
+        );
+    }
+    smoothing
 }
 
 /// The scene with the `--emit` overrides applied (`solve` and `view`); an override the scene

@@ -99,6 +99,7 @@ impl DisplayMesh {
         self.edges.upload_f32(&texels);
     }
 
+    /// The scene's triangles as the display draws them.
     pub fn mesh(&self) -> &Mesh {
         &self.mesh
     }
@@ -108,6 +109,7 @@ impl DisplayMesh {
         &self.edges
     }
 
+    /// The smoothing the edge texture was made for.
     pub fn smoothing(&self) -> &Smoothing {
         &self.smoothing
     }

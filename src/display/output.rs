@@ -20,16 +20,23 @@ use std::path::Path;
 pub enum Payload<'a> {
     /// Linear RGB floats, rows top to bottom.
     Exr {
+        /// Width, pixels.
         width: u32,
+        /// Height, pixels.
         height: u32,
+        /// Three floats per pixel.
         rgb: &'a [f32],
     },
     /// 8-bit sRGB, rows top to bottom.
     Png {
+        /// Width, pixels.
         width: u32,
+        /// Height, pixels.
         height: u32,
+        /// Three bytes per pixel.
         rgb: &'a [u8],
     },
+    /// UTF-8 text (JSON, reports), written as it is.
     Text(String),
 }
 
@@ -151,6 +158,7 @@ pub fn write_atomic(path: &Path, payload: Payload) -> Result<()> {
     Ok(())
 }
 
+/// Write linear RGB floats (rows top to bottom) as an OpenEXR file, atomically.
 pub fn write_exr(path: &Path, width: u32, height: u32, rgb: &[f32]) -> Result<()> {
     write_atomic(path, Payload::Exr { width, height, rgb })
 }
@@ -164,6 +172,7 @@ pub fn tone_map(image: &Image, exposure: f32) -> Vec<u8> {
         .collect()
 }
 
+/// The sRGB transfer curve of a linear value in [0, 1].
 pub fn srgb_encode(linear: f32) -> f32 {
     if linear <= 0.003_130_8 {
         12.92 * linear
@@ -172,6 +181,7 @@ pub fn srgb_encode(linear: f32) -> f32 {
     }
 }
 
+/// Write `image` tone-mapped (`tone_map`) as an 8-bit sRGB PNG, atomically.
 pub fn write_png(path: &Path, image: &Image, exposure: f32) -> Result<()> {
     let rgb = tone_map(image, exposure);
     write_atomic(
@@ -203,6 +213,7 @@ pub fn write_atlas_exr(path: &Path, width: u32, height: u32, rgba_bottom_up: &[f
     write_exr(path, width, height, &rgb)
 }
 
+/// Write `value` as pretty JSON, atomically.
 pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
     write_atomic(path, Payload::json(value)?)
 }

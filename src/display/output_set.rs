@@ -161,6 +161,7 @@ impl OutputSet {
         })
     }
 
+    /// The staging folder the set's files go into before `publish`.
     pub fn dir(&self) -> &Path {
         &self.dir
     }

@@ -59,6 +59,7 @@ pub struct PassDumps<'a> {
 }
 
 impl<'a> PassDumps<'a> {
+    /// Dumps for the shots listed (1-based), staged in `set`.
     pub fn new(shots: &[u32], set: &'a OutputSet) -> PassDumps<'a> {
         PassDumps {
             shots: shots.iter().copied().collect(),
@@ -68,6 +69,7 @@ impl<'a> PassDumps<'a> {
         }
     }
 
+    /// Whether no shot is to be pictured.
     pub fn is_empty(&self) -> bool {
         self.shots.is_empty()
     }

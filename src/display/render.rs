@@ -19,17 +19,24 @@ const SMOOTH_EDGES_UNIT: u32 = 2;
 
 /// A linear RGB radiance image, row 0 at the top.
 pub struct Image {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// Linear RGB, three floats per pixel.
     pub rgb: Vec<f32>,
 }
 
 /// A rectangle of a framebuffer in pixels, GL's way: origin at the bottom left.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Viewport {
+    /// Left edge, pixels.
     pub x: i32,
+    /// Bottom edge, pixels.
     pub y: i32,
+    /// Width, pixels.
     pub width: i32,
+    /// Height, pixels.
     pub height: i32,
 }
 
@@ -44,6 +51,7 @@ impl Viewport {
         }
     }
 
+    /// Width over height (a zero height counts as 1).
     pub fn aspect(&self) -> f32 {
         self.width as f32 / self.height.max(1) as f32
     }

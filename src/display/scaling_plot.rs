@@ -16,6 +16,7 @@ pub struct Point {
     pub room: String,
     /// The solver (`gpu`, `cpu`).
     pub solver: String,
+    /// The patches of the run (the x axis).
     pub patches: u64,
     /// Loop seconds to the stopping rule, measured or extrapolated.
     pub loop_s: f64,

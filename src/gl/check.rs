@@ -4,16 +4,42 @@
 use glow::HasContext;
 use std::sync::{Arc, Mutex};
 
+/// A GL failure, named by the pass or shader it happened in.
 #[derive(Debug, thiserror::Error)]
 pub enum GlError {
+    /// `glGetError` or a KHR_debug error after a pass.
     #[error("OpenGL error in the {pass} pass: {what}")]
-    Pass { pass: String, what: String },
+    Pass {
+        /// The pass that was running.
+        pass: String,
+        /// The error codes' names or the driver's messages.
+        what: String,
+    },
+    /// A framebuffer GL cannot draw into.
     #[error("framebuffer for the {pass} pass is incomplete: {status}")]
-    Framebuffer { pass: String, status: String },
+    Framebuffer {
+        /// The pass that set it up.
+        pass: String,
+        /// `glCheckFramebufferStatus`'s answer, named.
+        status: String,
+    },
+    /// A shader that does not compile.
     #[error("shader {file} failed to compile:\n{log}")]
-    Compile { file: String, log: String },
+    Compile {
+        /// The shader's file under glsl/.
+        file: String,
+        /// The compiler's log.
+        log: String,
+    },
+    /// Shaders that do not link into a program.
     #[error("shader program ({files}) failed to link:\n{log}")]
-    Link { files: String, log: String },
+    Link {
+        /// The program's shader files.
+        files: String,
+        /// The linker's log.
+        log: String,
+    },
+    /// A GL object the driver cannot create, or a size beyond a limit.
     #[error("{0}")]
     Limit(String),
 }
@@ -53,6 +79,7 @@ impl DebugLog {
     }
 }
 
+/// The name of a `glGetError` code (`GL_INVALID_ENUM`, ...).
 pub fn error_name(code: u32) -> &'static str {
     match code {
         glow::INVALID_ENUM => "GL_INVALID_ENUM",
@@ -92,6 +119,7 @@ pub fn check(gl: &glow::Context, debug: Option<&DebugLog>, pass: &str) -> Result
     }
 }
 
+/// The name of a `glCheckFramebufferStatus` answer, or its number if unknown.
 pub fn framebuffer_status_name(status: u32) -> String {
     match status {
         glow::FRAMEBUFFER_UNDEFINED => "GL_FRAMEBUFFER_UNDEFINED".into(),

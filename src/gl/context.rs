@@ -7,24 +7,32 @@ use super::{egl, osmesa, Gl};
 use glow::HasContext;
 use std::rc::Rc;
 
+/// Which headless backend to open (`--backend`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum BackendChoice {
+    /// EGL (surfaceless) if it works, else OSMesa.
     Auto,
+    /// EGL with Mesa's surfaceless platform.
     Egl,
+    /// OSMesa, Mesa's off-screen library.
     Osmesa,
 }
 
+/// The backend a context was made with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum BackendKind {
+    /// EGL with Mesa's surfaceless platform.
     Egl,
+    /// OSMesa, Mesa's off-screen library.
     Osmesa,
     /// A context made by someone else (the interactive viewer's window).
     Window,
 }
 
 impl BackendKind {
+    /// Its name in stats.json and messages (`egl`, `osmesa`, `window`).
     pub fn name(self) -> &'static str {
         match self {
             BackendKind::Egl => "egl",
@@ -37,18 +45,27 @@ impl BackendKind {
 /// What the driver says about itself, and the limits the solver depends on.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct GlInfo {
+    /// The backend the context came from.
     pub backend: BackendKind,
+    /// GL_VENDOR.
     pub vendor: String,
+    /// GL_RENDERER (llvmpipe, softpipe, zink, ...).
     pub renderer: String,
+    /// GL_VERSION.
     pub version: String,
+    /// GL_SHADING_LANGUAGE_VERSION.
     pub glsl_version: String,
+    /// GL_MAX_TEXTURE_SIZE: the largest texture side (the atlas must fit).
     pub max_texture_size: i32,
+    /// GL_MAX_RENDERBUFFER_SIZE: the largest renderbuffer side (the item buffer must fit).
     pub max_renderbuffer_size: i32,
     /// GL_MAX_VIEWPORT_DIMS: the widest and tallest viewport.
     pub max_viewport_dims: [i32; 2],
+    /// Whether KHR_debug is there: driver messages turn into errors that name the pass.
     pub khr_debug: bool,
 }
 
+/// No backend gave an OpenGL 3.0 context; the message says how to install one.
 #[derive(Debug, thiserror::Error)]
 #[error(
     "no usable OpenGL 3.0 driver: {tried}. On Debian install Mesa's software drivers with \
@@ -56,6 +73,7 @@ pub struct GlInfo {
      `apt-get install libosmesa6` (OSMesa backend)"
 )]
 pub struct NoDriver {
+    /// Each backend tried and why it failed.
     pub tried: String,
 }
 
@@ -133,8 +151,11 @@ thread_local! {
 /// glow handle removes its KHR_debug callback from this context, not another), destroys it
 /// with no context current, and makes the thread's newest remaining context current again.
 pub struct GlContext {
+    /// The GL functions of this context.
     pub gl: Gl,
+    /// What the driver says about itself.
     pub info: GlInfo,
+    /// The KHR_debug messages, when the driver has the extension.
     pub debug: Option<DebugLog>,
     _keep: Rc<Keep>,
 }
@@ -157,6 +178,7 @@ impl Drop for GlContext {
 }
 
 impl GlContext {
+    /// A context without a window, from `choice` (`Auto`: EGL, then OSMesa), current on this thread.
     pub fn headless(choice: BackendChoice) -> Result<GlContext, NoDriver> {
         let order: &[BackendKind] = match choice {
             BackendChoice::Auto => &[BackendKind::Egl, BackendKind::Osmesa],

@@ -10,9 +10,12 @@
 
 use std::sync::OnceLock;
 
+/// A fault `RADIOSITY_FAULT` can plant (see the module's list).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Fault {
+    /// `skip-accumulation-copy`: the accumulation pass copies nothing.
     SkipAccumulationCopy,
+    /// `swap-id-bytes`: the item buffer's IDs with red and blue swapped.
     SwapIdBytes,
 }
 

@@ -8,27 +8,40 @@ use glow::HasContext;
 /// A render target the driver cannot hold, with the limit it runs into.
 #[derive(Debug, thiserror::Error)]
 pub enum LimitError {
+    /// A side beyond the driver's limit.
     #[error(
         "the {what} would be {width}x{height} pixels, but this driver allows at most {max} per \
          side ({limit})"
     )]
     TooLarge {
+        /// The render target ("lightmap atlas", "item buffer", "image").
         what: String,
+        /// Its width, pixels.
         width: u64,
+        /// Its height, pixels.
         height: u64,
+        /// The largest side the limit allows.
         max: i32,
+        /// The limit's GL name.
         limit: &'static str,
     },
+    /// Within the limits, but the driver cannot allocate it.
     #[error(
         "this driver cannot allocate the {what}: a {width}x{height} {format} render target \
          ({mib} MiB) gives {status}: more memory than the driver gives one texture"
     )]
     Allocation {
+        /// The render target ("lightmap atlas", "item buffer", "image").
         what: String,
+        /// Its width, pixels.
         width: u64,
+        /// Its height, pixels.
         height: u64,
+        /// Its internal format's GL name.
         format: &'static str,
+        /// Its size, MiB.
         mib: u64,
+        /// What the probe framebuffer's status was.
         status: String,
     },
 }

@@ -5,6 +5,7 @@ use super::transfer::{self, PixelFormat, PixelStore, PixelType};
 use super::Gl;
 use glow::HasContext;
 
+/// The internal formats the solver and display use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TextureFormat {
     /// Energy and radiance: 32-bit float per channel (the paper's RGBA8 cannot hold energy).
@@ -29,11 +30,15 @@ impl TextureFormat {
     }
 }
 
+/// A 2D texture (lightmaps, item buffers, pictures), deleted when dropped.
 pub struct Texture {
     gl: Gl,
     raw: glow::Texture,
+    /// Width, texels.
     pub width: i32,
+    /// Height, texels.
     pub height: i32,
+    /// Its internal format.
     pub format: TextureFormat,
     /// The size GL allocated for level 0: what `glGetTexImage` writes. Private, so that no
     /// change to the public fields can make a readback buffer smaller than what GL writes; no
@@ -145,6 +150,7 @@ impl Texture {
         read.expect("the buffer was sized from the allocated image");
     }
 
+    /// Bind to texture unit `unit` (made active).
     pub fn bind(&self, unit: u32) {
         unsafe {
             self.gl.active_texture(glow::TEXTURE0 + unit);
@@ -159,14 +165,18 @@ impl Drop for Texture {
     }
 }
 
+/// A renderbuffer (depth for the item buffer and the marking pass), deleted when dropped.
 pub struct Renderbuffer {
     gl: Gl,
     raw: glow::Renderbuffer,
+    /// Width, pixels.
     pub width: i32,
+    /// Height, pixels.
     pub height: i32,
 }
 
 impl Renderbuffer {
+    /// A renderbuffer of `internal_format` (e.g. `glow::DEPTH_COMPONENT24`), `width` x `height`.
     pub fn new(gl: &Gl, internal_format: u32, width: i32, height: i32) -> Result<Self, GlError> {
         unsafe {
             let raw = gl.create_renderbuffer().map_err(GlError::Limit)?;
@@ -189,12 +199,14 @@ impl Drop for Renderbuffer {
     }
 }
 
+/// A framebuffer object: the passes draw into its attached textures, never a window.
 pub struct Framebuffer {
     gl: Gl,
     raw: glow::Framebuffer,
 }
 
 impl Framebuffer {
+    /// An empty framebuffer; attach before drawing.
     pub fn new(gl: &Gl) -> Result<Self, GlError> {
         let raw = unsafe { gl.create_framebuffer() }.map_err(GlError::Limit)?;
         Ok(Framebuffer {
@@ -208,6 +220,7 @@ impl Framebuffer {
         unsafe { self.gl.bind_framebuffer(glow::FRAMEBUFFER, Some(self.raw)) }
     }
 
+    /// Attach level 0 of `texture` at `attachment` (e.g. `glow::COLOR_ATTACHMENT0`); leaves it bound.
     pub fn attach_texture(&self, attachment: u32, texture: &Texture) {
         self.bind();
         unsafe {
@@ -221,6 +234,7 @@ impl Framebuffer {
         }
     }
 
+    /// Attach `rb` at `attachment` (e.g. `glow::DEPTH_ATTACHMENT`); leaves it bound.
     pub fn attach_renderbuffer(&self, attachment: u32, rb: &Renderbuffer) {
         self.bind();
         unsafe {
@@ -324,7 +338,9 @@ impl Drop for Framebuffer {
 
 /// One vertex attribute of an interleaved float buffer.
 pub struct Attribute {
+    /// The shader's attribute location (`layout` numbers, see `solver::mesh`).
     pub location: u32,
+    /// Floats per vertex in this attribute.
     pub size: i32,
     /// Offset in floats from the start of the vertex.
     pub offset: i32,
@@ -336,10 +352,12 @@ pub struct Mesh {
     gl: Gl,
     vao: glow::VertexArray,
     vbo: glow::Buffer,
+    /// Vertices in the buffer.
     pub vertex_count: i32,
 }
 
 impl Mesh {
+    /// Upload `data`, `floats_per_vertex` floats per vertex, with `attributes` as its layout.
     pub fn new(
         gl: &Gl,
         data: &[f32],
@@ -379,6 +397,7 @@ impl Mesh {
         }
     }
 
+    /// Draw every vertex as triangles.
     pub fn draw(&self) {
         self.draw_range(0, self.vertex_count);
     }
@@ -398,6 +417,7 @@ impl Mesh {
         self.vertex_count = data.len() as i32 / floats_per_vertex;
     }
 
+    /// Draw `count` vertices from `first` as triangles.
     pub fn draw_range(&self, first: i32, count: i32) {
         self.draw_arrays(glow::TRIANGLES, first, count);
     }
@@ -444,6 +464,7 @@ pub struct IndexStream {
 }
 
 impl IndexStream {
+    /// An empty element buffer.
     pub fn new(gl: &Gl) -> Result<Self, GlError> {
         let ebo = unsafe { gl.create_buffer().map_err(GlError::Limit)? };
         Ok(IndexStream {

@@ -10,7 +10,9 @@ use std::collections::HashMap;
 
 /// A shader stage's source and the file it came from (for error messages).
 pub struct Source {
+    /// The file under glsl/ that messages name.
     pub file: &'static str,
+    /// The GLSL source, with any `#define`s put in after `#version`.
     pub text: std::borrow::Cow<'static, str>,
 }
 
@@ -24,6 +26,15 @@ impl Source {
         Source {
             file: self.file,
             text: text.into(),
+        }
+    }
+
+    /// The same source with `text` appended: the host's definitions of functions the file
+    /// declares and calls (GLSL lets a declared function be defined after its callers).
+    pub fn append(self, text: &str) -> Source {
+        Source {
+            file: self.file,
+            text: format!("{}\n{text}", self.text).into(),
         }
     }
 
@@ -49,6 +60,7 @@ macro_rules! glsl {
     };
 }
 
+/// A linked shader program whose uniform locations are looked up once, by name.
 pub struct Program {
     gl: Gl,
     raw: glow::Program,
@@ -56,6 +68,7 @@ pub struct Program {
 }
 
 impl Program {
+    /// Compile and link `vertex` and `fragment`; a failure names the files and gives the log.
     pub fn new(
         gl: &Gl,
         vertex: Source,
@@ -113,6 +126,7 @@ impl Program {
         }
     }
 
+    /// Make this the current program (the setters below need it bound).
     pub fn use_program(&self) {
         unsafe { self.gl.use_program(Some(self.raw)) }
     }
@@ -126,60 +140,73 @@ impl Program {
     }
 
     // Setters for the bound program; a uniform the compiler removed is silently skipped.
+    /// Set the uniform `name`, an `int` (or a sampler's unit).
     pub fn set_i32(&self, name: &'static str, v: i32) {
         unsafe { self.gl.uniform_1_i32(self.location(name).as_ref(), v) }
     }
+    /// Set the uniform `name`, a `float`.
     pub fn set_f32(&self, name: &'static str, v: f32) {
         unsafe { self.gl.uniform_1_f32(self.location(name).as_ref(), v) }
     }
+    /// Set the uniform `name`, a `vec2`.
     pub fn set_vec2(&self, name: &'static str, v: [f32; 2]) {
         unsafe {
             self.gl
                 .uniform_2_f32(self.location(name).as_ref(), v[0], v[1])
         }
     }
+    /// Set the uniform `name`, a `vec3`.
     pub fn set_vec3(&self, name: &'static str, v: [f32; 3]) {
         unsafe {
             self.gl
                 .uniform_3_f32(self.location(name).as_ref(), v[0], v[1], v[2])
         }
     }
+    /// Set the uniform `name`, a `vec4`.
     pub fn set_vec4(&self, name: &'static str, v: [f32; 4]) {
         unsafe {
             self.gl
                 .uniform_4_f32(self.location(name).as_ref(), v[0], v[1], v[2], v[3])
         }
     }
+    /// Set the uniform `name`, an `ivec4`.
     pub fn set_ivec4(&self, name: &'static str, v: [i32; 4]) {
         unsafe {
             self.gl
                 .uniform_4_i32(self.location(name).as_ref(), v[0], v[1], v[2], v[3])
         }
     }
+    /// Set the uniform `name`, an `int[]`.
     pub fn set_i32_array(&self, name: &'static str, v: &[i32]) {
         unsafe { self.gl.uniform_1_i32_slice(self.location(name).as_ref(), v) }
     }
+    /// Set the uniform `name`, a `float[]`.
     pub fn set_f32_array(&self, name: &'static str, v: &[f32]) {
         unsafe { self.gl.uniform_1_f32_slice(self.location(name).as_ref(), v) }
     }
+    /// Set the uniform `name`, an `ivec4[]` (four ints each).
     pub fn set_ivec4_array(&self, name: &'static str, v: &[i32]) {
         unsafe { self.gl.uniform_4_i32_slice(self.location(name).as_ref(), v) }
     }
+    /// Set the uniform `name`, a `mat4[]` (column-major, 16 floats each).
     pub fn set_mat4_array(&self, name: &'static str, m: &[f32]) {
         unsafe {
             self.gl
                 .uniform_matrix_4_f32_slice(self.location(name).as_ref(), false, m)
         }
     }
+    /// Set the uniform `name`, a `vec3[]` (three floats each).
     pub fn set_vec3_array(&self, name: &'static str, v: &[f32]) {
         unsafe { self.gl.uniform_3_f32_slice(self.location(name).as_ref(), v) }
     }
+    /// Set the uniform `name`, a `mat3[]` (column-major, 9 floats each).
     pub fn set_mat3_array(&self, name: &'static str, m: &[f32]) {
         unsafe {
             self.gl
                 .uniform_matrix_3_f32_slice(self.location(name).as_ref(), false, m)
         }
     }
+    /// Set the uniform `name`, a `mat4` (column-major).
     pub fn set_mat4(&self, name: &'static str, m: &[f32; 16]) {
         unsafe {
             self.gl

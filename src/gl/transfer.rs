@@ -10,15 +10,20 @@ use glow::HasContext;
 /// The pixel formats the transfers use (the `format` argument of the GL calls).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PixelFormat {
+    /// One component per pixel (GL_RED).
     Red,
+    /// Three components per pixel (GL_RGB).
     Rgb,
+    /// Four components per pixel (GL_RGBA).
     Rgba,
 }
 
 /// The component types the transfers use (the `type` argument of the GL calls).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PixelType {
+    /// One byte per component (GL_UNSIGNED_BYTE).
     UnsignedByte,
+    /// A 32-bit float per component (GL_FLOAT).
     Float,
 }
 
@@ -62,7 +67,9 @@ pub struct PixelStore {
     pub alignment: usize,
     /// Pixels from one row's start to the next's; 0: the image's width.
     pub row_length: usize,
+    /// Pixels skipped at the start of each row.
     pub skip_pixels: usize,
+    /// Rows skipped before the first.
     pub skip_rows: usize,
 }
 
@@ -79,22 +86,42 @@ impl PixelStore {
 /// A transfer refused before GL saw the buffer.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum TransferError {
+    /// A negative width or height.
     #[error("a {width}x{height} pixel transfer has a negative size")]
-    Negative { width: i32, height: i32 },
+    Negative {
+        /// The width asked for.
+        width: i32,
+        /// The height asked for.
+        height: i32,
+    },
+    /// An alignment GL does not accept.
     #[error("GL_PACK/UNPACK_ALIGNMENT {0} is not 1, 2, 4 or 8")]
     Alignment(usize),
+    /// A size whose byte count overflows `usize`.
     #[error("a {width}x{height} pixel transfer needs more bytes than this machine can address")]
-    Overflow { width: i32, height: i32 },
+    Overflow {
+        /// The width asked for.
+        width: i32,
+        /// The height asked for.
+        height: i32,
+    },
+    /// A buffer shorter than the bytes GL would touch.
     #[error(
         "a {width}x{height} {format:?}/{ty:?} pixel transfer touches {needed} bytes, but the \
          buffer holds {len}"
     )]
     Short {
+        /// The width asked for.
         width: i32,
+        /// The height asked for.
         height: i32,
+        /// The pixel format.
         format: PixelFormat,
+        /// The component type.
         ty: PixelType,
+        /// The bytes GL would touch with the pixel-store state.
         needed: usize,
+        /// The bytes the buffer holds.
         len: usize,
     },
 }

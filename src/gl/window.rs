@@ -26,6 +26,7 @@ pub struct GlWindow {
     surface: Surface<WindowSurface>,
     context: PossiblyCurrentContext,
     display: Display,
+    /// The X11 window (size, redraw requests, cursor).
     pub window: Window,
 }
 
@@ -112,6 +113,7 @@ impl GlWindow {
         }
     }
 
+    /// Show the frame drawn (swap the surface's buffers).
     pub fn swap_buffers(&self) -> Result<(), String> {
         self.surface
             .swap_buffers(&self.context)

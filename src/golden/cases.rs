@@ -15,24 +15,38 @@ use anyhow::{Context, Result};
 #[derive(Clone, Copy, Debug)]
 pub enum Probe {
     /// Solve to 1 % unshot with 1,024 patches and render [`SIZE`] from the scene's camera.
-    Render { scene: &'static str, mode: Mode },
+    Render {
+        /// The bundled scene.
+        scene: &'static str,
+        /// The solve's mode.
+        mode: Mode,
+    },
     /// One visibility pass from the scene's first shooter: the item buffer's polygon IDs.
     Ids {
+        /// The bundled scene.
         scene: &'static str,
+        /// The visibility pass's kind (hemicube or hemispherical projection).
         visibility: VisibilityKind,
+        /// The item buffer's resolution.
         res: u32,
     },
     /// `shots` shots: the radiance and unshot atlases side by side, as read back.
     Shots {
+        /// The bundled scene.
         scene: &'static str,
+        /// The solve's mode.
         mode: Mode,
+        /// Shots made before the read-back.
         shots: u32,
     },
 }
 
+/// The solve's mode of a case, as in `radiosity solve --mode`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
+    /// `SolveOptions::paper`: the paper as written.
     Paper,
+    /// `SolveOptions::accurate`: the default.
     Accurate,
 }
 
@@ -45,27 +59,36 @@ impl Mode {
     }
 }
 
+/// A golden case: what it runs and what it exercises.
 pub struct Case {
+    /// Its name, also the reference file's (tests/golden/NAME.exr).
     pub name: &'static str,
     /// The GL paths it exercises, for the report.
     pub exercises: &'static str,
+    /// What it runs.
     pub probe: Probe,
 }
 
 /// A rendered case: RGB values, `width` pixels a row.
 pub struct Picture {
+    /// Width, pixels.
     pub width: u32,
+    /// Height, pixels.
     pub height: u32,
+    /// RGB, three floats per pixel (IDs: polygon ID + 1 in each channel, 0 for none).
     pub rgb: Vec<f32>,
+    /// How it is compared with its reference.
     pub metric: Metric,
 }
 
+/// The size of the rendered cases, pixels: small enough for the whole set in seconds.
 pub const SIZE: (u32, u32) = (96, 96);
 const PATCHES: u32 = 1024;
 
 const RENDER: &str = "a whole solve to 1 % (visibility, reconstruction, copies, readbacks, \
                       every shot) and the display pass sampling the atlas into a float image";
 
+/// Every golden case, in the order `radiosity check` runs them.
 pub const CASES: &[Case] = &[
     Case {
         name: "cornell-paper",

@@ -25,9 +25,12 @@ pub enum Metric {
     Ids,
 }
 
+/// A case compared with its reference: the figures and the verdict.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Comparison {
+    /// The case's name.
     pub case: String,
+    /// How it was compared.
     pub metric: Metric,
     /// Radiance: RMS of the edge-tolerant differences over the reference's mean. IDs: 0.
     pub rms: f64,
@@ -39,6 +42,7 @@ pub struct Comparison {
     /// Radiance: the plain RMS difference (pixel against pixel) over the mean; IDs: 0. What
     /// the edge tolerance forgives is the gap between this and `rms`.
     pub rms_plain: f64,
+    /// Whether every figure is within its tolerance.
     pub pass: bool,
     /// Why it failed, with the figures (empty when it passed).
     pub message: String,

@@ -25,14 +25,19 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+/// A Mesa driver of the driver matrix (`check --drivers`).
 #[derive(
     Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
 )]
 #[serde(rename_all = "lowercase")]
 pub enum Driver {
+    /// llvmpipe through EGL: the CI's driver.
     Llvmpipe,
+    /// softpipe through EGL: Gallium's reference rasteriser.
     Softpipe,
+    /// OSMesa (llvmpipe behind it).
     Osmesa,
+    /// zink through EGL: GL on Vulkan (lavapipe).
     Zink,
 }
 
@@ -44,6 +49,7 @@ const SELECTING: [&str; 3] = [
 ];
 
 impl Driver {
+    /// Every driver, in the order the matrix runs them.
     pub const ALL: [Driver; 4] = [
         Driver::Llvmpipe,
         Driver::Softpipe,
@@ -51,6 +57,7 @@ impl Driver {
         Driver::Zink,
     ];
 
+    /// Its name on the command line and in reports.
     pub fn name(self) -> &'static str {
         match self {
             Driver::Llvmpipe => "llvmpipe",
@@ -72,6 +79,7 @@ impl Driver {
         }
     }
 
+    /// The backend that opens it.
     pub fn backend(self) -> BackendChoice {
         match self {
             Driver::Osmesa => BackendChoice::Osmesa,
@@ -140,20 +148,28 @@ pub enum Status {
 /// One driver's run, as the child reports it (and the parent completes it).
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct DriverRun {
+    /// The driver.
     pub driver: Driver,
+    /// Whether it ran, was unavailable or crashed.
     pub status: Status,
     /// Why it is unavailable or crashed.
     pub reason: String,
+    /// GL_VENDOR as it reported it.
     pub vendor: String,
+    /// GL_RENDERER as it reported it.
     pub renderer: String,
+    /// GL_VERSION as it reported it.
     pub version: String,
     /// The variables that selected it.
     pub environment: Vec<(String, String)>,
+    /// Each case's outcome.
     pub outcomes: Vec<Outcome>,
+    /// Wall-clock seconds of the child.
     pub seconds: f64,
 }
 
 impl DriverRun {
+    /// A run of `driver` with nothing done yet.
     pub fn new(driver: Driver) -> DriverRun {
         DriverRun {
             driver,
@@ -172,6 +188,7 @@ impl DriverRun {
         }
     }
 
+    /// How many cases failed.
     pub fn failed(&self) -> usize {
         self.outcomes.iter().filter(|o| !o.comparison.pass).count()
     }
@@ -183,6 +200,7 @@ pub struct ChildArgs<'a> {
     pub exe: &'a Path,
     /// `--against`, when given.
     pub against: Option<&'a Path>,
+    /// The cases to run (all when empty).
     pub cases: &'a [String],
     /// Difference pictures go to `<diff_dir>/<driver>/`.
     pub diff_dir: &'a Path,

@@ -97,8 +97,10 @@ pub fn select(names: &[String]) -> Result<Vec<&'static Case>> {
 /// One case's outcome and how long it took.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Outcome {
+    /// The case compared with its reference.
     #[serde(flatten)]
     pub comparison: Comparison,
+    /// Seconds the case took.
     pub seconds: f64,
 }
 

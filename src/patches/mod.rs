@@ -26,13 +26,17 @@ use glam::{Vec2, Vec3};
 pub struct Lightmap {
     /// Texel rectangle of the patches inside the atlas (gutter excluded).
     pub x: u32,
+    /// Its bottom row in the atlas.
     pub y: u32,
+    /// Its width, texels.
     pub w: u32,
+    /// Its height, texels.
     pub h: u32,
     /// World position of the lightmap's corner (texel coordinate (0, 0)).
     pub origin: Vec3,
     /// World vectors spanning the whole lightmap along its width and height.
     pub axis_u: Vec3,
+    /// See `axis_u`: along the lightmap's height.
     pub axis_v: Vec3,
 }
 
@@ -62,9 +66,13 @@ impl Lightmap {
     }
 }
 
+/// Every polygon's lightmap in one atlas texture: one texel per patch, the unit both solvers
+/// and the display share.
 #[derive(Clone, Debug)]
 pub struct PatchLayout {
+    /// Atlas width, texels.
     pub atlas_width: u32,
+    /// Atlas height, texels.
     pub atlas_height: u32,
     /// Patch size in scene units (the largest side a texel may have).
     pub patch_size: f32,
@@ -81,32 +89,47 @@ pub struct PatchLayout {
 /// the GPU solver also checks the driver's own limit).
 pub const MAX_ATLAS_SIDE: u32 = 16384;
 
+/// A patch size the atlas cannot hold; the message suggests one that fits.
 #[derive(Debug, thiserror::Error)]
 pub enum LayoutError {
+    /// One polygon's lightmap alone is larger than an atlas.
     #[error(
         "polygon {polygon} (object '{object}') would need a {w}x{h} lightmap at patch size {size}, \
          more than an atlas of {max}x{max} can hold; the smallest patch size that fits is about \
          {suggest} scene units"
     )]
     Lightmap {
+        /// The polygon's index.
         polygon: usize,
+        /// Its object (or group) in the file.
         object: String,
+        /// The lightmap's width, texels.
         w: u32,
+        /// The lightmap's height, texels.
         h: u32,
+        /// The patch size asked for.
         size: f32,
+        /// The largest atlas side.
         max: u32,
+        /// About the smallest patch size that fits.
         suggest: f32,
     },
+    /// The lightmaps together do not fit in an atlas.
     #[error(
         "the lightmap atlas would be {w}x{h} texels at patch size {size}, more than {max}x{max}; \
          the smallest patch size that fits is about {suggest} scene units (--patch-size), or \
          ask for fewer --patches"
     )]
     Atlas {
+        /// The atlas's width, texels.
         w: u32,
+        /// The atlas's height, texels.
         h: u32,
+        /// The patch size asked for.
         size: f32,
+        /// The largest atlas side.
         max: u32,
+        /// About the smallest patch size that fits.
         suggest: f32,
     },
 }
@@ -254,6 +277,7 @@ impl PatchLayout {
         self.lightmaps.iter().map(Lightmap::texels).collect()
     }
 
+    /// The patches of every polygon (gutters not counted).
     pub fn patch_count(&self) -> u64 {
         self.patches_per_polygon.iter().map(|&n| n as u64).sum()
     }

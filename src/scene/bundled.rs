@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 
 /// A scene's OBJ and MTL texts, as committed in scenes/NAME/NAME.obj and NAME.mtl.
 pub struct BundledScene {
+    /// Its name (`cornell`, `simple`, ...), also its folder's under scenes/.
     pub name: &'static str,
     obj: &'static str,
     mtl: &'static str,
@@ -66,6 +67,7 @@ impl BundledScene {
             .join(format!("{}.obj", self.name))
     }
 
+    /// Load it as `load_obj` would its files.
     pub fn load(&self) -> Result<Scene, SceneError> {
         self.load_with(&LoadOptions::default())
     }

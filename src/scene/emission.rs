@@ -2,8 +2,8 @@
 //! emitter after loading, and the check that the scene then emits at all, whose message lists
 //! the materials by area so that the user can pick the lamps and windows.
 
-use super::error::SceneError;
-use super::{Scene, MAX_KE};
+use super::error::{EmissionError, SceneError, MAX_KE};
+use super::Scene;
 use glam::Vec3;
 
 /// Make the material `material` emit `ke` (emitted radiance, linear RGB, as `Ke` in the MTL
@@ -12,6 +12,7 @@ use glam::Vec3;
 pub struct Emission {
     /// The material's name as messages show it (control characters escaped).
     pub material: String,
+    /// Emitted radiance, linear RGB.
     pub ke: [f32; 3],
 }
 
@@ -24,21 +25,6 @@ pub struct LoadOptions {
     /// Keep every face its own polygon (`--keep-faces`), as a scene's `# keep-faces` line does;
     /// otherwise connected coplanar faces of one material are merged (`merge.rs`).
     pub keep_faces: bool,
-}
-
-/// An emission override the scene cannot take.
-#[derive(Debug, PartialEq, thiserror::Error)]
-pub enum EmissionError {
-    #[error(
-        "cannot make the material '{name}' emit: the scene has no material of that name. Its \
-         materials: {materials}"
-    )]
-    UnknownMaterial { name: String, materials: String },
-    #[error(
-        "cannot make the material '{name}' emit {ke:?}: emitted radiance needs three numbers in \
-         [0, {MAX_KE:e}]"
-    )]
-    Radiance { name: String, ke: [f32; 3] },
 }
 
 /// Materials listed in a message at most; the rest are counted.

@@ -26,7 +26,9 @@ const MAX_ANGLE_COS: f32 = 0.999_962;
 /// What merging did: faces in, polygons out.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct MergeReport {
+    /// Faces before merging.
     pub faces: usize,
+    /// Polygons after merging.
     pub polygons: usize,
 }
 

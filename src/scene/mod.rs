@@ -16,11 +16,10 @@ mod overlap;
 mod statements;
 mod triangulate;
 
-pub use emission::{Emission, EmissionError, LoadOptions};
-pub use error::{SceneError, MAX_SCENE_SIZE, MIN_SCENE_SIZE};
+pub use emission::{Emission, LoadOptions};
+pub use error::{EmissionError, SceneError, MAX_KE, MAX_SCENE_SIZE, MIN_SCENE_SIZE};
 pub use files::{allow_outside_materials, shown, shown_path, MAX_MTL_BYTES, MAX_OBJ_BYTES};
 pub use load::{load_obj, load_obj_with};
-pub use mtl::MAX_KE;
 pub use triangulate::triangulate;
 
 /// The material of faces that name none, or one no library defines: a neutral grey that does
@@ -30,8 +29,10 @@ pub const DEFAULT_MATERIAL: &str = "(default)";
 use crate::geometry::{bounds, mean, sphere_around, Plane};
 use glam::Vec3;
 
+/// A material of the MTL file: what the solver uses of it.
 #[derive(Clone, Debug)]
 pub struct Material {
+    /// Its name as messages show it (control characters escaped).
     pub name: String,
     /// Diffuse reflectance (albedo), linear RGB in [0, 1].
     pub kd: Vec3,
@@ -40,6 +41,7 @@ pub struct Material {
 }
 
 impl Material {
+    /// Whether it emits (any channel of `ke` above zero).
     pub fn is_emitter(&self) -> bool {
         self.ke.max_element() > 0.0
     }
@@ -48,10 +50,15 @@ impl Material {
 /// A planar polygon, vertices counter-clockwise seen from its front.
 #[derive(Clone, Debug)]
 pub struct Polygon {
+    /// Corners, counter-clockwise seen from the front.
     pub vertices: Vec<Vec3>,
+    /// Unit normal, towards the front (the side that emits and receives).
     pub normal: Vec3,
+    /// Area, scene units squared.
     pub area: f32,
+    /// The centroid of its area.
     pub centroid: Vec3,
+    /// Index into `Scene::materials`.
     pub material: usize,
     /// The OBJ object (or group) the face came from, for messages.
     pub object: String,
@@ -135,10 +142,14 @@ impl Polygon {
     }
 }
 
+/// A pinhole camera (from a `# camera` line, the flags, or chosen by casting rays).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// Where it stands.
     pub eye: Vec3,
+    /// The point it looks at.
     pub target: Vec3,
+    /// The picture's up direction (not parallel to the view).
     pub up: Vec3,
     /// Vertical field of view in degrees.
     pub fov_y: f32,
@@ -151,17 +162,27 @@ pub const FOV_RANGE: std::ops::RangeInclusive<f32> = 1.0..=179.0;
 /// Why a camera cannot make a picture.
 #[derive(Debug, PartialEq, thiserror::Error)]
 pub enum CameraError {
+    /// A vector (named) with a NaN or infinite component.
     #[error("the {0} is not three finite numbers")]
     NotFinite(&'static str),
+    /// The eye on the target (the point, formatted).
     #[error("the eye and the target are the same point ({0}), so there is no view direction")]
     EyeIsTarget(String),
+    /// A zero up vector.
     #[error("the up vector is zero")]
     UpZero,
+    /// An up vector along the view.
     #[error(
         "the up vector ({up}) is parallel to the view direction ({view}), so the picture's \
          vertical is undefined"
     )]
-    UpParallel { up: String, view: String },
+    UpParallel {
+        /// The up vector, formatted.
+        up: String,
+        /// The view direction, formatted.
+        view: String,
+    },
+    /// A field of view outside `FOV_RANGE`.
     #[error("the field of view {0}° is outside 1 to 179 degrees")]
     Fov(f32),
 }
@@ -209,13 +230,18 @@ fn show(v: Vec3) -> String {
     format!("{},{},{}", v.x, v.y, v.z)
 }
 
+/// A loaded scene: planar polygons with their materials, in one list the passes share.
 #[derive(Clone, Debug)]
 pub struct Scene {
+    /// Its name: the OBJ file's stem.
     pub name: String,
+    /// Its polygons; their index is the polygon ID of the item buffer.
     pub polygons: Vec<Polygon>,
+    /// Its materials, indexed by `Polygon::material`.
     pub materials: Vec<Material>,
     /// Vertices as counted in the file (`v` lines): what Table 1 calls vertices.
     pub vertex_count: usize,
+    /// The camera of a `# camera` line, if any.
     pub camera: Option<Camera>,
     /// Default patch size in scene units, from a `# patch-size S` line in the OBJ.
     pub patch_size: Option<f32>,
@@ -247,10 +273,12 @@ pub(crate) fn test_scene(polygons: Vec<Polygon>) -> Scene {
 }
 
 impl Scene {
+    /// The material of `polygon`.
     pub fn material(&self, polygon: &Polygon) -> &Material {
         &self.materials[polygon.material]
     }
 
+    /// Polygons whose material emits.
     pub fn light_count(&self) -> usize {
         self.polygons
             .iter()
@@ -258,10 +286,12 @@ impl Scene {
             .count()
     }
 
+    /// Area of every polygon together.
     pub fn total_area(&self) -> f32 {
         self.polygons.iter().map(|p| p.area).sum()
     }
 
+    /// The axis-aligned bounding box, (min, max).
     pub fn bounds(&self) -> (Vec3, Vec3) {
         let all: Vec<Vec3> = self
             .polygons

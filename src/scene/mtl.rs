@@ -3,16 +3,12 @@
 //! silently change the light; every other statement (`Ka`, `Ks`, `Ns`, `illum`, `map_Kd`, ...)
 //! is skipped whatever its values and counted for one summary line.
 
-use super::error::SceneError;
+use super::error::{SceneError, MAX_KE};
 use super::files::{excerpt, shown};
 use super::statements::{statements, three_numbers, Skipped, Statement};
 use super::Material;
 use glam::Vec3;
 use std::path::Path;
-
-/// Largest emitted radiance accepted: beyond it power sums (radiance × area × π, summed over
-/// a scene) approach the f32 range and the picture turns to NaN.
-pub const MAX_KE: f32 = 1e15;
 
 /// `Kd` lines above 1 reported one by one; beyond, only counted.
 const CLAMPS_SHOWN: usize = 5;

@@ -79,6 +79,7 @@ impl EnergyTotals {
         std::f64::consts::PI * (e[0] + e[1] + e[2]) / 3.0
     }
 
+    /// Σ of every polygon's `power` (negative channels count against it).
     pub fn total_power(&self) -> f64 {
         (0..self.energy.len()).map(|p| self.power(p)).sum()
     }
@@ -96,19 +97,15 @@ impl EnergyTotals {
         (0..self.energy.len()).map(|p| self.magnitude(p)).sum()
     }
 
-    /// The paper's `Find_Max_Energy_lm`: the polygon with the most unshot power (the largest
-    /// [`magnitude`](Self::magnitude)) above `floor`, or `None`. Ties go to the lower ID, so the
-    /// choice is deterministic.
-    pub fn find_max_energy(&self, floor: f64) -> Option<usize> {
-        self.find_max_energies(floor, 1).first().copied()
-    }
-
-    /// The `count` polygons with the most unshot power above `floor`, most first (for several
-    /// shooters per pass, beyond the paper).
-    pub fn find_max_energies(&self, floor: f64, count: usize) -> Vec<usize> {
+    /// The paper's `Find_Max_Energy_lm`: the `count` polygons (the paper: one) with the most
+    /// unshot power (the largest [`magnitude`](Self::magnitude)) above `floor`, most first;
+    /// fewer, or none, when fewer have more than `floor`. Ties go to the lower ID, so the choice
+    /// is deterministic.
+    pub fn max_energy_polygons(&self, floor: f64, count: usize) -> Vec<usize> {
         largest(self.energy.len(), count, floor, |p| self.magnitude(p))
     }
 
+    /// Polygon `p`'s unshot energy, radiance × area per RGB channel.
     pub fn energy_rgb(&self, p: usize) -> Vec3 {
         let e = self.energy[p];
         Vec3::new(e[0] as f32, e[1] as f32, e[2] as f32)
@@ -151,9 +148,9 @@ mod tests {
         ];
         let t = EnergyTotals::sum(&rgba, 2, Some(&[1.0, 1.0]));
         assert_eq!(t.patches, vec![1, 4]);
-        assert_eq!(t.find_max_energy(0.0), Some(1));
+        assert_eq!(t.max_energy_polygons(0.0, 1), vec![1]);
         assert!((t.total_power() - std::f64::consts::PI * 7.0).abs() < 1e-9);
-        assert_eq!(t.find_max_energy(100.0), None);
+        assert_eq!(t.max_energy_polygons(100.0, 1), Vec::<usize>::new());
     }
 
     #[test]

@@ -23,7 +23,9 @@ pub struct GpuBackend<'a> {
     /// display filtering only).
     dense: PatchLayout,
     visibility_mesh: SceneMesh,
+    /// The visibility pass (item buffers from each shooter).
     pub visibility: VisibilityPass,
+    /// The reconstruction pass (form factors and received energy per patch).
     pub reconstruction: ReconstructionPass,
     lightmaps: Lightmaps,
     options: SolveOptions,
@@ -88,7 +90,7 @@ impl<'a> GpuBackend<'a> {
             mesh::tessellated_data(scene, layout, size)
         } else if options.visibility == VisibilityKind::Hemicube && options.robust_visibility {
             // Plates: the robust test reads the shown polygon's plane, which a plate shares.
-            mesh::plate_data(scene, layout, visibility.merge_plates(scene))
+            visibility.merge_plates(scene).vertex_data(scene, layout)
         } else {
             mesh::vertex_data(scene, layout)
         };

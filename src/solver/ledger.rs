@@ -91,9 +91,9 @@ impl Ledger {
     }
 
     /// Find_Max_Energy: the `count` polygons with the most unshot power (the paper: one), most
-    /// first, of those that have some.
-    pub fn find_max_energy(&self, count: usize) -> Vec<usize> {
-        self.totals.find_max_energies(0.0, count)
+    /// first, of those that have some ([`EnergyTotals::max_energy_polygons`]).
+    pub fn max_energy_polygons(&self, count: usize) -> Vec<usize> {
+        self.totals.max_energy_polygons(0.0, count)
     }
 
     /// Unshot power / emitted power, counting negative unshot energy (left by overshooting) as
@@ -107,6 +107,7 @@ impl Ledger {
         self.unshot_fraction() <= threshold as f64 || self.shots >= max_shots
     }
 
+    /// Every polygon's unshot energy, as last read back.
     pub fn totals(&self) -> &EnergyTotals {
         &self.totals
     }
@@ -171,6 +172,7 @@ impl Ledger {
         record
     }
 
+    /// Shots so far.
     pub fn shots(&self) -> u32 {
         self.shots
     }
@@ -180,10 +182,12 @@ impl Ledger {
         self.passes
     }
 
+    /// The scene's emitted power (radiance × area × π, RGB mean): the stopping rule's denominator.
     pub fn emitted_power(&self) -> f64 {
         self.emitted_power
     }
 
+    /// Every shot so far, in order.
     pub fn history(&self) -> &[ShotRecord] {
         &self.history
     }
@@ -193,6 +197,7 @@ impl Ledger {
         self.patch_area[polygon]
     }
 
+    /// Area of one patch of each polygon.
     pub fn patch_areas(&self) -> &[f64] {
         &self.patch_area
     }

@@ -1,7 +1,6 @@
 //! The scene as one interleaved vertex buffer, built once: every pass draws all polygons with a
 //! single draw call (the paper draws polygon by polygon; same fragments, fewer calls).
 
-use super::visibility::plates::Plates;
 use crate::gl::objects::Attribute;
 use crate::gl::{GlError, Mesh};
 use crate::patches::PatchLayout;
@@ -10,12 +9,18 @@ use glam::Vec3;
 
 /// Attribute locations, bound before linking (paper 2.2, step 9).
 pub const POSITION: u32 = 0;
+/// See `POSITION`: the polygon's normal.
 pub const NORMAL: u32 = 1;
+/// See `POSITION`: the texel in the atlas.
 pub const LIGHTMAP_UV: u32 = 2;
+/// See `POSITION`: the polygon's ID (the item buffer's colour).
 pub const POLYGON_ID: u32 = 3;
+/// See `POSITION`: the material's Kd.
 pub const REFLECTANCE: u32 = 4;
+/// See `POSITION`: the material's Ke.
 pub const EMISSION: u32 = 5;
 
+/// Each location with the shaders' attribute name, for `glBindAttribLocation`.
 pub const ATTRIBUTES: &[(u32, &str)] = &[
     (POSITION, "Position"),
     (NORMAL, "Normal"),
@@ -38,21 +43,9 @@ pub fn vertex_data(scene: &Scene, layout: &PatchLayout) -> Vec<f32> {
     data
 }
 
-/// The vertex data of the hemicube's visibility pass: each merged plate (`visibility::plates`) as one
-/// polygon under its representative's ID, the other polygons as they are.
-pub fn plate_data(scene: &Scene, layout: &PatchLayout, plates: &Plates) -> Vec<f32> {
-    let mut data = Vec::new();
-    for (i, p) in scene.polygons.iter().enumerate() {
-        if plates.representative[i] == i {
-            let outline = plates.outlines.get(&i).unwrap_or(&p.vertices);
-            push_polygon(&mut data, scene, layout, i, outline);
-        }
-    }
-    data
-}
-
-/// Polygon `i`'s attributes on the triangles of `outline` (its own vertices or its plate's).
-fn push_polygon(
+/// Append polygon `i`'s attributes on the triangles of `outline` (its own vertices, or its
+/// plate's: `Plates::vertex_data`) to `data`.
+pub fn push_polygon(
     data: &mut Vec<f32>,
     scene: &Scene,
     layout: &PatchLayout,
@@ -119,12 +112,15 @@ pub fn tessellated_data(scene: &Scene, layout: &PatchLayout, max_edge: f32) -> V
 /// transforms each index of a draw once, a third fewer vertices for a quad than three per
 /// triangle.
 pub struct SceneMesh {
+    /// The vertices (shared corners), uploaded.
     pub mesh: Mesh,
+    /// Every polygon's triangles as corner indices, polygon after polygon.
     pub triangles: Vec<u32>,
+    /// Polygon `i`'s triangles: (first index, index count) in `triangles`.
     pub ranges: Vec<(u32, u32)>,
 }
 
-/// Upload vertex data made by [`vertex_data`], [`plate_data`] or [`tessellated_data`] (each
+/// Upload vertex data made by [`vertex_data`], `Plates::vertex_data` or [`tessellated_data`] (each
 /// polygon's triangles one after another) for `polygons` polygons, merging each polygon's equal
 /// corners.
 pub fn upload_scene(

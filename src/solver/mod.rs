@@ -7,10 +7,10 @@
 //! `shooters.rs` (the shooter's cells), `visibility/` (item buffer from the shooter, and what it
 //! may leave out), `reconstruction/` (form factors and received energy per patch, accumulation),
 //! `form_factor.rs` (the CPU twins of the shader's factors). `mesh.rs` builds the vertex data
-//! the passes draw; `tuning.rs` holds every speed trick for llvmpipe, apart from the paper;
-//! `overshoot.rs` the ambient estimate of overshooting, one of the speed options beyond the paper
-//! that change the answer (`SolveOptions::overshoot`, `small_hemi_res`,
-//! `rotate_item_buffer`, `shooters_per_pass`).
+//! the passes draw; `pass_names.rs` names the steps (timers, GL errors); `tuning.rs` holds every
+//! speed trick for llvmpipe, apart from the paper; `overshoot.rs` the ambient estimate of
+//! overshooting, one of the speed options beyond the paper that change the answer
+//! (`SolveOptions::overshoot`, `small_hemi_res`, `rotate_item_buffer`, `shooters_per_pass`).
 
 pub mod balance;
 pub mod cpu;
@@ -21,6 +21,7 @@ pub mod ledger;
 pub mod mesh;
 pub mod options;
 pub mod overshoot;
+pub mod pass_names;
 pub mod progressive;
 pub mod reconstruction;
 pub mod shooters;
@@ -40,43 +41,76 @@ use crate::gl::GlError;
 /// item-buffer resolution, tessellation); the command line adds its flags.
 #[derive(Debug, thiserror::Error)]
 pub enum SolveError {
+    /// A GL failure (names the pass).
     #[error(transparent)]
     Gl(#[from] GlError),
+    /// The atlas is larger than the driver's textures.
     #[error(
         "the lightmap atlas needs {width}x{height} texels but this driver allows at most \
          {max}x{max} (GL_MAX_TEXTURE_SIZE / GL_MAX_RENDERBUFFER_SIZE); use a larger patch size \
          (about {suggest} scene units or more) or fewer patches"
     )]
     AtlasTooLarge {
+        /// Atlas width, texels.
         width: u32,
+        /// Atlas height, texels.
         height: u32,
+        /// The driver's largest side.
         max: i32,
+        /// About the smallest patch size that fits.
         suggest: f32,
     },
+    /// A negative or non-finite tessellation.
     #[error("the tessellation {0} must be 0 (off) or a positive number of patch sizes")]
     Tessellation(f32),
+    /// An item-buffer resolution the driver cannot hold.
     #[error("the item-buffer resolution {res} is outside 16..={max}")]
-    HemiRes { res: u32, max: i32 },
+    HemiRes {
+        /// The resolution asked for.
+        res: u32,
+        /// The largest this driver allows.
+        max: i32,
+    },
+    /// A small shots' resolution outside 16 to the full one.
     #[error(
         "the small shots' item-buffer resolution {small} is outside 16..={full} (the \
          item-buffer resolution)"
     )]
-    SmallHemiRes { small: u32, full: u32 },
+    SmallHemiRes {
+        /// The small shots' resolution.
+        small: u32,
+        /// The item-buffer resolution.
+        full: u32,
+    },
+    /// A smallest shots' resolution above the small shots' one.
     #[error(
         "the smallest shots' item-buffer resolution {min} needs a small shots' resolution at \
          least as large (now {small}; 0: none) and is at least 16"
     )]
-    MinHemiRes { min: u32, small: u32 },
+    MinHemiRes {
+        /// The smallest shots' resolution.
+        min: u32,
+        /// The small shots' resolution.
+        small: u32,
+    },
+    /// No emitter has a patch.
     #[error(
         "the emitters have no patches at this patch size ({patch_size} scene units): a light \
          smaller than a patch emits nothing; use a smaller patch size or more patches"
     )]
-    NoEmission { patch_size: f32 },
+    NoEmission {
+        /// The patch size, scene units.
+        patch_size: f32,
+    },
+    /// The CPU solver's worker threads cannot start.
     #[error("cannot start {threads} worker threads: {source}")]
     Threads {
+        /// Threads asked for.
         threads: usize,
+        /// Why they cannot start.
         source: rayon::ThreadPoolBuildError,
     },
+    /// A shot's receivers got more than it carried (the check of `Solver::shoot`).
     #[error(
         "energy created at shot {shot}: the unshot power is now {unshot:.3}x the emitted power (or \
          the loaded one) ({shooter} shot {shot_power:.4e} and its receivers received \
@@ -86,21 +120,32 @@ pub enum SolveError {
     EnergyCreated {
         /// What does this, for the settings in use.
         cause: &'static str,
+        /// The shot, 1-based.
         shot: u32,
         /// Unshot power after the shot over the emitted power (or over the loaded unshot power).
         unshot: f64,
+        /// The shooting polygon, with its object.
         shooter: String,
+        /// Power it carried.
         shot_power: f64,
         /// Power that reached the receivers (RGB mean).
         received: f64,
         /// Received over carried, in the channel where that is largest.
         excess: f64,
+        /// The receivers that gained most.
         receivers: String,
     },
+    /// Shooters per pass outside 1 to `MAX_SHOOTERS_PER_PASS`.
     #[error("the shooters per pass {0} are outside 1..={max}", max = MAX_SHOOTERS_PER_PASS)]
     ShootersPerPass(u32),
+    /// An atlas of the wrong length given to `Solver::load_atlases`.
     #[error("an atlas of {got} floats was given where the layout has {expected}")]
-    AtlasSize { expected: usize, got: usize },
+    AtlasSize {
+        /// Floats the layout has.
+        expected: usize,
+        /// Floats given.
+        got: usize,
+    },
 }
 
 use glam::{Mat4, Vec3};
@@ -113,19 +158,23 @@ pub const MAX_CORNERS: usize = 12;
 /// (the paper: the whole polygon from its centre).
 #[derive(Clone, Copy, Debug)]
 pub struct Shooter {
+    /// Its polygon.
     pub polygon: usize,
     /// The atlas texels whose unshot energy this shot carries (and clears): [x0, y0, x1, y1).
     /// Parts of one cell share it (their patches are told apart by side, `shooters.rs`).
     pub texels: [u32; 4],
     /// How many patches' unshot energy it carries.
     pub patches: u32,
+    /// The point it shoots from (the paper: the polygon's centroid).
     pub position: Vec3,
+    /// Its polygon's unit normal (the item buffer looks along it).
     pub normal: Vec3,
     /// Unshot radiance times area, RGB (what the shader calls ShootEnergy).
     pub energy: Vec3,
     /// The shooter's outline (counter-clockwise seen from its front), for the polygon form
     /// factor: `corners[..corner_count]`.
     pub corners: [Vec3; MAX_CORNERS],
+    /// Corners of the outline in `corners`.
     pub corner_count: usize,
     /// Area of that outline.
     pub area: f32,
@@ -157,7 +206,9 @@ impl Shooter {
 /// One shot, as reported in `stats.json`'s history.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct ShotRecord {
+    /// The shot, 1-based.
     pub shot: u32,
+    /// The polygon that shot (the first, when several shot in one pass).
     pub shooter: usize,
     /// Seconds since the solve started, at the end of this shot.
     pub seconds: f64,

@@ -52,7 +52,9 @@ pub struct SolveOptions {
     /// The same for emitters, whose first shot is the direct light (the sharpest shadows):
     /// smaller cells there cost a few passes and fix partly shadowed receivers. Typical 1.
     pub emitter_cell: u32,
+    /// The form factor of the reconstruction pass.
     pub form_factor: FormFactorKind,
+    /// How the visibility pass sees the scene from the shooter.
     pub visibility: VisibilityKind,
     /// Robust visibility: a receiver is visible when its pixel holds its ID, or when the
     /// polygon its pixel shows does not lie between it and the shooter (the two are on the same

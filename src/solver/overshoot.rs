@@ -89,7 +89,7 @@ impl Overshoot {
     /// loop). A polygon that has received nothing yet is not picked: its shot would be all
     /// prediction (a floor under a small lamp would shoot the ambient light before the lamp lit
     /// it, and a solve could start with more unshot power than the emitters give).
-    pub fn find_max_energy(&self, totals: &EnergyTotals, count: usize) -> Vec<usize> {
+    pub fn max_shot_polygons(&self, totals: &EnergyTotals, count: usize) -> Vec<usize> {
         let all = sum(totals);
         let power = |p: usize| {
             let e = DVec3::from_array(totals.energy[p]);
@@ -187,10 +187,10 @@ mod tests {
             areas: vec![1e6; n],
             ..overshoot
         };
-        assert_eq!(big.find_max_energy(&totals, n), vec![light]);
+        assert_eq!(big.max_shot_polygons(&totals, n), vec![light]);
         // Once a wall has received, it competes by its shot (unshot plus predicted ambient).
         let wall = (light + 1) % n;
         totals.energy[wall] = [1e-6; 3];
-        assert_eq!(big.find_max_energy(&totals, n).len(), 2);
+        assert_eq!(big.max_shot_polygons(&totals, n).len(), 2);
     }
 }

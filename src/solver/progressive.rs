@@ -1,9 +1,9 @@
 //! The progressive refinement loop of section 3.2, written once for both backends:
 //!
 //! ```text
-//! initialise the unshot energy E of every patch (its emission)      -- Backend::new, Ledger::new
+//! initialise the unshot energy E of every patch (its emission)      -- GpuBackend::new, Ledger::new
 //! while not converged:                                               -- Ledger::converged
-//!     shooter = Find_Max_Energy()                                    -- Ledger::find_max_energy
+//!     shooter = Find_Max_Energy()                                    -- Ledger::max_energy_polygons
 //!     for each cell of the shooter (the paper: the whole polygon):
 //!         visibility pass from the shooter                           -- Backend::visibility
 //!         reconstruction pass: every receiver's ΔE = ρ·F·E added     -- Backend::reconstruction
@@ -21,6 +21,7 @@
 use super::balance::{self, ShotBalance};
 use super::ledger::{Ledger, PassTimes};
 use super::overshoot::Overshoot;
+use super::pass_names::{ACCUMULATION, FIND_MAX_ENERGY, READBACK, RECONSTRUCTION, VISIBILITY};
 use super::{shooters, Shooter, ShotRecord, SolveError, SolveOptions};
 use crate::patches::{Lightmap, PatchLayout};
 use crate::scene::Scene;
@@ -70,13 +71,6 @@ pub struct Solver<'a, B: Backend> {
     /// The ambient estimate, when overshooting (`SolveOptions::overshoot`).
     overshoot: Option<Overshoot>,
 }
-
-/// Pass names, as `PassTimes` keys them.
-pub const FIND_MAX_ENERGY: &str = "find_max_energy";
-pub const VISIBILITY: &str = "visibility";
-pub const RECONSTRUCTION: &str = "reconstruction";
-pub const ACCUMULATION: &str = "accumulation";
-pub const READBACK: &str = "readback";
 
 impl<'a, B: Backend> Solver<'a, B> {
     /// A solver on `backend`, whose lightmaps hold the emission, for the caller's `layout`.
@@ -358,7 +352,7 @@ impl<'a, B: Backend> Solver<'a, B> {
     }
 
     /// Find_Max_Energy: the polygon with the most unshot power (when overshooting, whose shot
-    /// would carry the most: `Overshoot::find_max_energy`).
+    /// would carry the most: `Overshoot::max_shot_polygons`).
     pub fn next_polygon(&self) -> Option<usize> {
         self.next_polygons(1).first().copied()
     }
@@ -367,8 +361,8 @@ impl<'a, B: Backend> Solver<'a, B> {
     /// most, most first (fewer when fewer have anything to shoot).
     pub fn next_polygons(&self, count: usize) -> Vec<usize> {
         match &self.overshoot {
-            Some(o) => o.find_max_energy(self.ledger.totals(), count),
-            None => self.ledger.find_max_energy(count),
+            Some(o) => o.max_shot_polygons(self.ledger.totals(), count),
+            None => self.ledger.max_energy_polygons(count),
         }
     }
 
@@ -422,19 +416,23 @@ impl<'a, B: Backend> Solver<'a, B> {
         super::item_buffer_side(&self.options, s.power() / self.ledger.emitted_power())
     }
 
+    /// Whether the stopping rule holds: unshot fraction below the threshold, or `max_shots` made.
     pub fn converged(&self) -> bool {
         self.ledger
             .converged(self.options.threshold, self.options.max_shots)
     }
 
+    /// Unshot power over emitted power, as last read back.
     pub fn unshot_fraction(&self) -> f64 {
         self.ledger.unshot_fraction()
     }
 
+    /// The scene's emitted power (radiance × area × π, RGB mean).
     pub fn emitted_power(&self) -> f64 {
         self.ledger.emitted_power()
     }
 
+    /// Shots so far.
     pub fn shots(&self) -> u32 {
         self.ledger.shots()
     }
@@ -444,6 +442,7 @@ impl<'a, B: Backend> Solver<'a, B> {
         self.ledger.passes()
     }
 
+    /// Every shot so far, in order.
     pub fn history(&self) -> &[ShotRecord] {
         self.ledger.history()
     }
@@ -463,18 +462,22 @@ impl<'a, B: Backend> Solver<'a, B> {
         self.ledger.patch_area(polygon)
     }
 
+    /// Area of one patch of each polygon.
     pub fn patch_areas(&self) -> &[f64] {
         self.ledger.patch_areas()
     }
 
+    /// The settings it solves with.
     pub fn options(&self) -> &SolveOptions {
         &self.options
     }
 
+    /// The backend doing the passes (the tests read its passes' counters).
     pub fn backend(&self) -> &B {
         &self.backend
     }
 
+    /// The backend, to change (tests that plant a state).
     pub fn backend_mut(&mut self) -> &mut B {
         &mut self.backend
     }

@@ -18,18 +18,24 @@ use crate::solver::SolveOptions;
 /// One line of the report.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Check {
+    /// What is checked, with its scene.
     pub name: String,
     /// `paper` or `accurate`.
     pub mode: &'static str,
+    /// The closed form's or the reference's value.
     pub expected: f64,
+    /// The solver's value.
     pub got: f64,
     /// |got - expected| / |expected| (or the worst per-patch value, where the name says so).
     pub error: f64,
+    /// The largest `error` that passes.
     pub tolerance: f64,
+    /// Whether `error` is within `tolerance` (and the figures are finite).
     pub pass: bool,
 }
 
 impl Check {
+    /// A check of `got` against `expected`, its relative error and verdict computed.
     pub fn new(
         name: impl Into<String>,
         mode: &'static str,

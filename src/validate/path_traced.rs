@@ -34,35 +34,58 @@ pub const CORNELL_PATCHES: u32 = 4096;
 /// Why a scene or an atlas cannot be compared with the path tracer.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum PathTracedError {
+    /// Not exactly one emitting polygon (how many there are).
     #[error("the path tracer needs exactly one emitting polygon (it samples that one light); the scene has {0}")]
     Lights(usize),
+    /// The light is not a parallelogram.
     #[error(
         "the light, polygon {polygon} (object '{object}'), has {corners} corners and is not a \
          parallelogram; the path tracer samples the light as one"
     )]
     LightShape {
+        /// The light's polygon.
         polygon: usize,
+        /// Its object in the file.
         object: String,
+        /// Its corners.
         corners: usize,
     },
+    /// Fewer paths per patch centre than batches (how many were asked for).
     #[error(
         "the path tracer needs at least {BATCHES} paths per patch centre (one per batch), not {0}"
     )]
     Paths(usize),
+    /// A polygon outside the Cornell box's regions.
     #[error(
         "polygon {polygon} (object '{object}') is in none of the Cornell box's regions (floor, \
          ceiling, back_wall, red_wall, green_wall, short_block, tall_block)"
     )]
-    NotCornell { polygon: usize, object: String },
+    NotCornell {
+        /// The polygon.
+        polygon: usize,
+        /// Its object in the file.
+        object: String,
+    },
+    /// An atlas that does not match the layout.
     #[error("the atlas has {got} floats; the layout's {width}x{height} RGBA atlas has {expected}")]
     AtlasSize {
+        /// Floats given.
         got: usize,
+        /// Floats the layout's atlas has.
         expected: usize,
+        /// The atlas's width, texels.
         width: u32,
+        /// The atlas's height, texels.
         height: u32,
     },
+    /// A reference for another scene.
     #[error("the reference has {got} polygons; the scene has {expected}")]
-    ReferenceSize { got: usize, expected: usize },
+    ReferenceSize {
+        /// The reference's polygons.
+        got: usize,
+        /// The scene's polygons.
+        expected: usize,
+    },
 }
 
 /// SplitMix64, its top 24 bits as a float in [0, 1): small, seedable and the same everywhere, so
@@ -297,9 +320,11 @@ pub fn cornell_region(scene: &Scene, p: usize) -> Option<&'static str> {
 pub struct RegionRow {
     /// Its Cornell region ([`cornell_region`]).
     pub region: &'static str,
+    /// The polygon.
     pub polygon: usize,
     /// The solution's and the reference's mean radiance (RGB) over the polygon's patch centres.
     pub ours: Vec3,
+    /// See `ours`: the path tracer's.
     pub reference: Vec3,
     /// (ours − reference) / reference, by the RGB mean, in %.
     pub difference: f64,
@@ -310,6 +335,7 @@ pub struct RegionRow {
 /// A solution against the reference: every polygon with patches but the light, and the worst.
 #[derive(Clone, Debug)]
 pub struct Comparison {
+    /// One row per polygon compared.
     pub rows: Vec<RegionRow>,
     /// The largest |difference| over the rows, a fraction.
     pub worst: f32,

@@ -7,12 +7,15 @@ use glam::{Quat, Vec3};
 /// Closest the eye may come to the pole of the up axis, as |cos| of the angle between them.
 const POLE: f32 = 0.995;
 
+/// The viewer's camera: it orbits the target (drag), zooms (wheel) and goes home (key H).
 pub struct OrbitCamera {
     home: Camera,
+    /// Where it is now.
     pub camera: Camera,
 }
 
 impl OrbitCamera {
+    /// A camera at `home`, which it returns to.
     pub fn new(home: Camera) -> OrbitCamera {
         OrbitCamera { home, camera: home }
     }

@@ -30,6 +30,7 @@ pub struct ViewOptions {
     pub emit: Vec<crate::scene::Emission>,
     /// Keep every face its own polygon (`--keep-faces`).
     pub keep_faces: bool,
+    /// The solver settings, as `solve --mode`.
     pub mode: ViewMode,
     /// Stop when unshot power / emitted power ≤ this. Range (0, 1); typical 0.01.
     pub threshold: f32,
@@ -47,6 +48,7 @@ pub struct ViewOptions {
     pub smooth_angle: f32,
     /// Most shots per frame while running. Range 1..=64; typical 4.
     pub shots_per_frame: u32,
+    /// The overlays on at the start (`--overlays`).
     pub overlays: Vec<Overlay>,
     /// Run from the start, and after this many shots (or convergence) save the window as a PNG
     /// and exit.

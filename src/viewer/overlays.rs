@@ -9,15 +9,21 @@ use crate::gl::{GlContext, GlError, Mesh, Program, Texture};
 use crate::glsl;
 use glow::HasContext;
 
+/// The name GL errors of the overlays' draws carry.
 pub const NAME: &str = "viewer overlay";
 
 /// Which overlays are on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct OverlaySet {
+    /// The last and next shooters striped.
     pub shooter: bool,
+    /// The last item buffer inset.
     pub item_buffer: bool,
+    /// Unshot radiance per patch, log scale, instead of the lighting.
     pub heat_map: bool,
+    /// The lightmap atlas inset.
     pub atlas: bool,
+    /// The patch grid.
     pub borders: bool,
 }
 
@@ -39,6 +45,7 @@ pub enum Overlay {
 }
 
 impl OverlaySet {
+    /// The set with the overlays of `list` on (`none` turns none on).
     pub fn from_list(list: &[Overlay]) -> OverlaySet {
         let has = |o| list.contains(&o);
         OverlaySet {
@@ -69,9 +76,18 @@ pub const HEAT_DECADES: f32 = 4.0;
 /// What an inset shows.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Inset {
+    /// The item buffer's IDs in false colour.
     ItemBuffer,
-    Radiance { exposure: f32 },
-    Heat { log_max: f32 },
+    /// A radiance atlas, tone-mapped.
+    Radiance {
+        /// Radiance multiplier before tone mapping.
+        exposure: f32,
+    },
+    /// Unshot radiance, log scale, white at the largest.
+    Heat {
+        /// log10 of the largest unshot radiance.
+        log_max: f32,
+    },
 }
 
 /// The insets' program and quad.
@@ -81,6 +97,7 @@ pub struct Insets {
 }
 
 impl Insets {
+    /// Compile the insets' program and make their quad.
     pub fn new(ctx: &GlContext) -> Result<Insets, GlError> {
         let gl = &ctx.gl;
         let program = Program::new(

@@ -5,7 +5,7 @@
 use super::overlays::OverlaySet;
 use super::reach::Reach;
 use super::ViewMode;
-use crate::solver::{progressive, PassTimes};
+use crate::solver::{pass_names, PassTimes};
 use egui::style::ScrollStyle;
 use egui_plot::{HLine, Line, LineStyle, Plot, PlotPoints};
 
@@ -232,20 +232,20 @@ fn readout(ui: &mut egui::Ui, r: &Readout) {
         row("solve time", format!("{:.2} s", r.solve_seconds));
         row(
             "visibility pass",
-            ms(t.get(progressive::VISIBILITY), r.passes),
+            ms(t.get(pass_names::VISIBILITY), r.passes),
         );
         row(
             "reconstruction pass",
-            ms(t.get(progressive::RECONSTRUCTION), r.passes),
+            ms(t.get(pass_names::RECONSTRUCTION), r.passes),
         );
         row(
             "accumulation copy",
-            ms(t.get(progressive::ACCUMULATION), r.passes),
+            ms(t.get(pass_names::ACCUMULATION), r.passes),
         );
         row(
             "readback + max energy",
             ms(
-                t.get(progressive::READBACK) + t.get(progressive::FIND_MAX_ENERGY),
+                t.get(pass_names::READBACK) + t.get(pass_names::FIND_MAX_ENERGY),
                 r.shots,
             ),
         );

@@ -37,6 +37,7 @@ pub enum ShaderCache {
     Cold,
 }
 
+/// `radiosity bench`'s flags.
 #[derive(clap::Args, Debug, Clone)]
 pub struct BenchArgs {
     /// What to benchmark: `table1` (the paper's Table 1, paper-faithful and fast rows), `guard`
@@ -44,6 +45,7 @@ pub struct BenchArgs {
     /// patch count, both solvers).
     #[arg(value_parser = ["table1", "guard", "scaling"])]
     pub what: String,
+    /// The OpenGL backend of the GPU runs (EGL or OSMesa; `auto` tries both).
     #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
     pub backend: BackendChoice,
     /// Stopping rule: unshot power / emitted power (0 < F < 1).
@@ -123,11 +125,13 @@ pub struct BenchArgs {
     pub gpu_only: bool,
 }
 
+/// The middle value of `v` (the upper one of an even count): a run's figure robust to one slow sample.
 pub fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(|a, b| a.total_cmp(b));
     v[v.len() / 2]
 }
 
+/// The CPU's model name from /proc/cpuinfo, for the report ("unknown CPU" elsewhere).
 pub fn cpu_model() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
         .ok()
@@ -152,6 +156,7 @@ pub fn peak_memory_mib() -> f64 {
         .unwrap_or(0.0)
 }
 
+/// A bundled Table 1 room (`simple` or `complex`) and its layout at the room's own patch size.
 pub fn room(name: &str) -> Result<(crate::scene::Scene, PatchLayout)> {
     let scene = bundled::find(name)
         .with_context(|| format!("no built-in room '{name}': the rooms are simple and complex"))?
@@ -211,6 +216,7 @@ pub fn run_child(
     Ok(text)
 }
 
+/// `radiosity bench`: run the benchmark `args.what` names.
 pub fn run_bench(args: &BenchArgs) -> Result<()> {
     match args.what.as_str() {
         "guard" => guard::run(args),

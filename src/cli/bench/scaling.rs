@@ -24,13 +24,19 @@ use std::time::Instant;
 /// One run's figures, as the child prints them (JSON).
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Run {
+    /// The room measured (`simple`, `complex`).
     pub room: String,
+    /// How many times the room's patch count the run used.
     pub scale: u32,
+    /// The solver (`gpu`, `cpu`).
     pub solver: String,
+    /// The patches of the run's layout.
     pub patches: u64,
+    /// Seconds from loading to the first shot (contexts, programs, atlases).
     pub setup_s: f64,
     /// Loop seconds measured (to convergence, or to the budget).
     pub loop_s: f64,
+    /// Shots made in the loop seconds.
     pub shots: u32,
     /// Whether the run reached the stopping rule within the budget.
     pub complete: bool,
@@ -252,6 +258,7 @@ struct Report {
     exponents: Vec<(String, String, f64)>,
 }
 
+/// `radiosity bench scaling`: cost against patch count, both solvers, with its plot and JSON.
 pub fn run(args: &BenchArgs) -> Result<()> {
     if let Some(spec) = &args.one {
         return one(args, spec);

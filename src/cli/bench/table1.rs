@@ -21,7 +21,7 @@
 //! it), and prints both; the headline figures are the warm ones.
 
 use super::{cpu_model, gpu_run, median, peak_memory_mib, room, BenchArgs, ShaderCache};
-use crate::gl::GlContext;
+use crate::gl::{GlContext, GlInfo};
 use crate::solver::cpu::CpuSolver;
 use crate::solver::SolveOptions;
 use crate::validate::guard;
@@ -166,32 +166,16 @@ fn cold_run_in_child(args: &BenchArgs, name: &str, configuration: &str) -> Resul
 
 pub fn run(args: &BenchArgs) -> Result<()> {
     if args.gpu_only {
-        let name = args.scenes.first().context("no room")?;
-        let (scene, layout) = room(name)?;
-        let options = configuration(&args.configuration, args.threshold);
-        // As in the parent, whose timed contexts are not the process's first (loading the
-        // driver is not part of a setup): one context made and dropped before.
-        drop(GlContext::headless(args.backend)?);
-        let (setup, run, shots, _) = gpu_run(args.backend, &scene, &layout, &options)?;
-        outln!("setup_s {setup}\nloop_s {run}\nshots {shots}");
-        return Ok(());
+        return run_gpu_only(args);
     }
-    let env_cold = shader_cache_disabled_by_env();
-    if args.shader_cache == ShaderCache::Cold && !env_cold {
-        // Before the first context: Mesa reads the variable when it creates its screen.
-        std::env::set_var("MESA_SHADER_CACHE_DISABLE", "true");
-    }
-    let cold = env_cold || args.shader_cache == ShaderCache::Cold;
-    let cold_child = args.shader_cache == ShaderCache::Both && !cold;
+    let cache = CachePlan::of(args);
     let info_ctx = GlContext::headless(args.backend)?;
     let info = info_ctx.info.clone();
     drop(info_ctx);
-    let cores = std::thread::available_parallelism()
-        .map(|n| n.get())
-        .unwrap_or(1);
     let configurations = CONFIGURATIONS.len() as u64;
+    let runs_per_configuration = 2 + cache.cold_child as u64;
     let steps =
-        args.scenes.len() as u64 * configurations * (2 + cold_child as u64) * args.repeat as u64;
+        args.scenes.len() as u64 * configurations * runs_per_configuration * args.repeat as u64;
     let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         indicatif::ProgressBar::new(steps)
     } else {
@@ -199,144 +183,259 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     };
     let mut rows = Vec::new();
     for name in &args.scenes {
-        let (scene, layout) = room(name)?;
-        // The accuracy guard's reference, on the simple room (the complex room's would take the
-        // CPU solver an hour).
-        let reference = if name == "simple" {
-            bar.set_message(format!(
-                "{name}: the exhaustive CPU solution (accuracy guard)"
-            ));
-            let base = SolveOptions::paper_faithful(args.threshold);
-            Some(guard::reference(&scene, &layout, &base, args.threads)?.0)
-        } else {
-            None
-        };
-        if !cold {
-            // Fill the shader cache: one untimed setup and a few shots of each configuration
-            // (llvmpipe compiles and caches its shader variants at their first draw).
-            bar.set_message(format!("{name}: GPU, filling the shader cache"));
-            for c in CONFIGURATIONS {
-                let warm_up = SolveOptions {
-                    max_shots: 3,
-                    ..configuration(c, args.threshold)
-                };
-                gpu_run(args.backend, &scene, &layout, &warm_up)?;
-            }
-        }
-        // Per configuration: GPU setup, loop; CPU setup, loop; GPU setup, loop with the cache
-        // disabled. The configurations alternate within each repeat, so that both see the
-        // same machine.
-        let mut t = [(); CONFIGURATIONS.len()].map(|_| [(); 6].map(|_| Vec::new()));
-        let mut shots = [(0, 0); CONFIGURATIONS.len()];
-        let mut difference = [None; CONFIGURATIONS.len()];
-        for _ in 0..args.repeat {
-            for (k, &c) in CONFIGURATIONS.iter().enumerate() {
-                let options = configuration(c, args.threshold);
-                let t = &mut t[k];
-                if cold_child {
-                    bar.set_message(format!("{name}, {c}: GPU, shader cache disabled"));
-                    let (setup, run) = cold_run_in_child(args, name, c)?;
-                    t[4].push(setup);
-                    t[5].push(run);
-                    bar.inc(1);
-                }
-                bar.set_message(format!("{name}, {c}: GPU"));
-                let (setup, run, n, atlas) = gpu_run(args.backend, &scene, &layout, &options)?;
-                t[0].push(setup);
-                t[1].push(run);
-                shots[k].0 = n;
-                if let Some(reference) = &reference {
-                    difference[k] = Some(guard::mean_patch_difference(&atlas, reference));
-                }
-                bar.inc(1);
-                bar.set_message(format!("{name}, {c}: CPU"));
-                let start = Instant::now();
-                let mut cpu = CpuSolver::new(&scene, &layout, options.clone(), args.threads)?;
-                t[2].push(start.elapsed().as_secs_f64());
-                let start = Instant::now();
-                cpu.solve(|_| {})?;
-                t[3].push(start.elapsed().as_secs_f64());
-                shots[k].1 = cpu.shots();
-                bar.inc(1);
-            }
-        }
-        let paper = PAPER
-            .iter()
-            .find(|p| p.0 == name)
-            .copied()
-            .unwrap_or((name, 0.0, 0.0));
-        for (k, t) in t.into_iter().enumerate() {
-            let [gpu_setup_s, gpu_loop_s, cpu_setup_s, cpu_loop_s, cold_setup_s, cold_loop_s] = t;
-            let gpu = Times {
-                setup_s: median(gpu_setup_s),
-                loop_s: median(gpu_loop_s),
-                shots: shots[k].0,
-                shader_cache: Some(if cold { "cold" } else { "warm" }),
-                setup_cold_s: (!cold_setup_s.is_empty()).then(|| median(cold_setup_s)),
-                loop_cold_s: (!cold_loop_s.is_empty()).then(|| median(cold_loop_s)),
-            };
-            let cpu = Times {
-                setup_s: median(cpu_setup_s),
-                loop_s: median(cpu_loop_s),
-                shots: shots[k].1,
-                shader_cache: None,
-                setup_cold_s: None,
-                loop_cold_s: None,
-            };
-            rows.push(Row {
-                scene: name.clone(),
-                configuration: CONFIGURATIONS[k],
-                faces: scene.polygons.len(),
-                vertices: scene.vertex_count,
-                lights: scene.light_count(),
-                patches: layout.patch_count(),
-                ratio: cpu.loop_s / gpu.loop_s,
-                gpu,
-                cpu,
-                mean_patch_difference: difference[k],
-                paper_cpu_seconds: paper.1,
-                paper_gpu_seconds: paper.2,
-                paper_ratio: if paper.2 > 0.0 {
-                    paper.1 / paper.2
-                } else {
-                    0.0
-                },
-            });
-        }
+        rows.extend(measure_room(args, name, &cache, &bar)?);
     }
     bar.finish_and_clear();
-    let cache_dir = shader_cache_dir();
-    let dir = cache_dir
-        .as_deref()
-        .map_or("no cache directory".into(), |d| d.display().to_string());
-    let shader_cache_note = if cold {
-        if env_cold {
-            "cold: the environment disables Mesa's shader cache (MESA_SHADER_CACHE_DISABLE)".into()
-        } else {
-            "cold: --shader-cache cold, MESA_SHADER_CACHE_DISABLE=true".into()
+    let report = report(args, &cache, &info, rows);
+    print_report(&report, cache.cold_child);
+    if let Some(path) = &args.json {
+        crate::display::output::write_json(path, &report)?;
+    }
+    Ok(())
+}
+
+/// `--gpu-only`: one GPU run of `--configuration` on the first room, its times printed for the
+/// parent (`cold_run_in_child`).
+fn run_gpu_only(args: &BenchArgs) -> Result<()> {
+    let name = args.scenes.first().context("no room")?;
+    let (scene, layout) = room(name)?;
+    let options = configuration(&args.configuration, args.threshold);
+    // As in the parent, whose timed contexts are not the process's first (loading the
+    // driver is not part of a setup): one context made and dropped before.
+    drop(GlContext::headless(args.backend)?);
+    let (setup, run, shots, _) = gpu_run(args.backend, &scene, &layout, &options)?;
+    outln!("setup_s {setup}\nloop_s {run}\nshots {shots}");
+    Ok(())
+}
+
+/// How the timed GPU runs meet Mesa's shader cache (`--shader-cache` and the environment).
+struct CachePlan {
+    /// The environment disables the cache.
+    env_cold: bool,
+    /// Every timed run is cold (the environment, or `--shader-cache cold`).
+    cold: bool,
+    /// One more GPU run per configuration and repeat with the cache disabled, in a child process
+    /// (`--shader-cache both`, the others warm).
+    cold_child: bool,
+}
+
+impl CachePlan {
+    /// The plan `args` ask for; for `--shader-cache cold`, the cache disabled in this process.
+    fn of(args: &BenchArgs) -> Self {
+        let env_cold = shader_cache_disabled_by_env();
+        if args.shader_cache == ShaderCache::Cold && !env_cold {
+            // Before the first context: Mesa reads the variable when it creates its screen.
+            std::env::set_var("MESA_SHADER_CACHE_DISABLE", "true");
         }
-    } else if !shader_cache_filled(cache_dir.as_deref()) {
-        format!("warm asked for, but Mesa wrote nothing to {dir}: the timed setups were cold")
-    } else if cold_child {
-        format!(
-            "warm (the headline): Mesa's shader cache ({dir}) filled by an untimed run first; \
-             cold: one more GPU run per repeat with MESA_SHADER_CACHE_DISABLE=true, in a child \
-             process"
-        )
+        let cold = env_cold || args.shader_cache == ShaderCache::Cold;
+        CachePlan {
+            env_cold,
+            cold,
+            cold_child: args.shader_cache == ShaderCache::Both && !cold,
+        }
+    }
+
+    /// The state of the cache during the timed setups (`warm` or `cold`), and how it was made
+    /// so.
+    fn state_and_note(&self) -> (&'static str, String) {
+        let cache_dir = shader_cache_dir();
+        let filled = shader_cache_filled(cache_dir.as_deref());
+        let dir = cache_dir
+            .as_deref()
+            .map_or("no cache directory".into(), |d| d.display().to_string());
+        let note = if self.cold {
+            if self.env_cold {
+                "cold: the environment disables Mesa's shader cache (MESA_SHADER_CACHE_DISABLE)"
+                    .into()
+            } else {
+                "cold: --shader-cache cold, MESA_SHADER_CACHE_DISABLE=true".into()
+            }
+        } else if !filled {
+            format!("warm asked for, but Mesa wrote nothing to {dir}: the timed setups were cold")
+        } else if self.cold_child {
+            format!(
+                "warm (the headline): Mesa's shader cache ({dir}) filled by an untimed run first; \
+                 cold: one more GPU run per repeat with MESA_SHADER_CACHE_DISABLE=true, in a child \
+                 process"
+            )
+        } else {
+            format!("warm: Mesa's shader cache ({dir}) filled by an untimed run first")
+        };
+        let state = if self.cold || !filled { "cold" } else { "warm" };
+        (state, note)
+    }
+}
+
+/// One room of the bench, with the accuracy guard's reference atlas (the simple room only).
+struct Room<'a> {
+    name: &'a str,
+    scene: crate::scene::Scene,
+    layout: crate::patches::PatchLayout,
+    reference: Option<Vec<f32>>,
+}
+
+/// One configuration's measurements on one room, over the repeats.
+#[derive(Default)]
+struct Samples {
+    gpu_setup_s: Vec<f64>,
+    gpu_loop_s: Vec<f64>,
+    cpu_setup_s: Vec<f64>,
+    cpu_loop_s: Vec<f64>,
+    /// `CachePlan::cold_child`'s runs.
+    cold_setup_s: Vec<f64>,
+    cold_loop_s: Vec<f64>,
+    gpu_shots: u32,
+    cpu_shots: u32,
+    /// The GPU solution's mean per-patch difference from the guard's reference.
+    difference: Option<f64>,
+}
+
+/// Room `name`'s rows: each configuration timed `--repeat` times on both solvers.
+fn measure_room(
+    args: &BenchArgs,
+    name: &str,
+    cache: &CachePlan,
+    bar: &indicatif::ProgressBar,
+) -> Result<Vec<Row>> {
+    let (scene, layout) = room(name)?;
+    // The accuracy guard's reference, on the simple room (the complex room's would take the
+    // CPU solver an hour).
+    let reference = if name == "simple" {
+        bar.set_message(format!(
+            "{name}: the exhaustive CPU solution (accuracy guard)"
+        ));
+        let base = SolveOptions::paper_faithful(args.threshold);
+        Some(guard::reference(&scene, &layout, &base, args.threads)?.0)
     } else {
-        format!("warm: Mesa's shader cache ({dir}) filled by an untimed run first")
+        None
     };
-    let state = if cold || !shader_cache_filled(cache_dir.as_deref()) {
-        "cold"
-    } else {
-        "warm"
+    let room = Room {
+        name,
+        scene,
+        layout,
+        reference,
     };
+    if !cache.cold {
+        // Fill the shader cache: one untimed setup and a few shots of each configuration
+        // (llvmpipe compiles and caches its shader variants at their first draw).
+        bar.set_message(format!("{name}: GPU, filling the shader cache"));
+        for c in CONFIGURATIONS {
+            let warm_up = SolveOptions {
+                max_shots: 3,
+                ..configuration(c, args.threshold)
+            };
+            gpu_run(args.backend, &room.scene, &room.layout, &warm_up)?;
+        }
+    }
+    // The configurations alternate within each repeat, so that all see the same machine.
+    let mut samples = [(); CONFIGURATIONS.len()].map(|_| Samples::default());
+    for _ in 0..args.repeat {
+        for (c, samples) in CONFIGURATIONS.iter().zip(&mut samples) {
+            time_configuration(args, &room, c, cache.cold_child, bar, samples)?;
+        }
+    }
+    Ok((CONFIGURATIONS.iter().zip(samples))
+        .map(|(c, samples)| row(&room, c, samples, cache.cold))
+        .collect())
+}
+
+/// One repeat of configuration `c` on `room`: GPU setup, loop (and the cold ones in a child
+/// process if `cold_child`); CPU setup, loop.
+fn time_configuration(
+    args: &BenchArgs,
+    room: &Room,
+    c: &str,
+    cold_child: bool,
+    bar: &indicatif::ProgressBar,
+    samples: &mut Samples,
+) -> Result<()> {
+    let name = room.name;
+    let options = configuration(c, args.threshold);
+    if cold_child {
+        bar.set_message(format!("{name}, {c}: GPU, shader cache disabled"));
+        let (setup, run) = cold_run_in_child(args, name, c)?;
+        samples.cold_setup_s.push(setup);
+        samples.cold_loop_s.push(run);
+        bar.inc(1);
+    }
+    bar.set_message(format!("{name}, {c}: GPU"));
+    let (setup, run, n, atlas) = gpu_run(args.backend, &room.scene, &room.layout, &options)?;
+    samples.gpu_setup_s.push(setup);
+    samples.gpu_loop_s.push(run);
+    samples.gpu_shots = n;
+    if let Some(reference) = &room.reference {
+        samples.difference = Some(guard::mean_patch_difference(&atlas, reference));
+    }
+    bar.inc(1);
+    bar.set_message(format!("{name}, {c}: CPU"));
+    let start = Instant::now();
+    let mut cpu = CpuSolver::new(&room.scene, &room.layout, options, args.threads)?;
+    samples.cpu_setup_s.push(start.elapsed().as_secs_f64());
+    let start = Instant::now();
+    cpu.solve(|_| {})?;
+    samples.cpu_loop_s.push(start.elapsed().as_secs_f64());
+    samples.cpu_shots = cpu.shots();
+    bar.inc(1);
+    Ok(())
+}
+
+/// The row of configuration `c` on `room`: the medians of `samples`, beside the paper's times.
+fn row(room: &Room, c: &'static str, samples: Samples, cold: bool) -> Row {
+    let name = room.name;
+    let paper = PAPER
+        .iter()
+        .find(|p| p.0 == name)
+        .copied()
+        .unwrap_or((name, 0.0, 0.0));
+    let median_if_any = |v: Vec<f64>| (!v.is_empty()).then(|| median(v));
+    let gpu = Times {
+        setup_s: median(samples.gpu_setup_s),
+        loop_s: median(samples.gpu_loop_s),
+        shots: samples.gpu_shots,
+        shader_cache: Some(if cold { "cold" } else { "warm" }),
+        setup_cold_s: median_if_any(samples.cold_setup_s),
+        loop_cold_s: median_if_any(samples.cold_loop_s),
+    };
+    let cpu = Times {
+        setup_s: median(samples.cpu_setup_s),
+        loop_s: median(samples.cpu_loop_s),
+        shots: samples.cpu_shots,
+        shader_cache: None,
+        setup_cold_s: None,
+        loop_cold_s: None,
+    };
+    Row {
+        scene: name.to_string(),
+        configuration: c,
+        faces: room.scene.polygons.len(),
+        vertices: room.scene.vertex_count,
+        lights: room.scene.light_count(),
+        patches: room.layout.patch_count(),
+        ratio: cpu.loop_s / gpu.loop_s,
+        gpu,
+        cpu,
+        mean_patch_difference: samples.difference,
+        paper_cpu_seconds: paper.1,
+        paper_gpu_seconds: paper.2,
+        paper_ratio: if paper.2 > 0.0 {
+            paper.1 / paper.2
+        } else {
+            0.0
+        },
+    }
+}
+
+/// The report of `rows`, with what was measured and how.
+fn report(args: &BenchArgs, cache: &CachePlan, info: &GlInfo, mut rows: Vec<Row>) -> Report {
+    let (state, shader_cache_note) = cache.state_and_note();
     for r in &mut rows {
         r.gpu.shader_cache = Some(state);
     }
-    let report = Report {
+    Report {
         machine: cpu_model(),
-        cores,
+        cores: std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1),
         gl_renderer: info.renderer.clone(),
         gl_version: info.version.clone(),
         stopping_rule: format!(
@@ -374,7 +473,13 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             .collect(),
         peak_memory_mib: peak_memory_mib(),
         rows,
-    };
+    }
+}
+
+/// Print `report`: the machine and settings, then the table (the GPU columns cold / warm if
+/// `cold_child`).
+fn print_report(report: &Report, cold_child: bool) {
+    let state = report.shader_cache;
     outln!(
         "{} ({} cores); {} | {}",
         report.machine,
@@ -431,8 +536,4 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         );
     }
     outln!("peak memory: {:.0} MiB", report.peak_memory_mib);
-    if let Some(path) = &args.json {
-        crate::display::output::write_json(path, &report)?;
-    }
-    Ok(())
 }

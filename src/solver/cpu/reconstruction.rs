@@ -8,10 +8,15 @@ use glam::Vec3;
 /// A receiving patch: its atlas texel, polygon, centre, normal and reflectance.
 #[derive(Clone, Copy)]
 pub struct Receiver {
+    /// Its texel in the atlas (row-major index).
     pub texel: usize,
+    /// Its polygon's ID.
     pub polygon: u32,
+    /// The patch's centre, world space.
     pub centre: Vec3,
+    /// Its polygon's unit normal.
     pub normal: Vec3,
+    /// Its polygon's reflectance (Kd).
     pub rho: Vec3,
 }
 

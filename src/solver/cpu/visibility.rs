@@ -15,6 +15,8 @@ struct Node {
     count: u32,
 }
 
+/// A bounding-volume hierarchy over the scene's triangles: the CPU solver's exact visibility
+/// (a ray from the shooter to each receiver).
 pub struct Bvh {
     nodes: Vec<Node>,
     triangles: Vec<[Vec3; 3]>,
@@ -24,6 +26,7 @@ pub struct Bvh {
 const LEAF: usize = 4;
 
 impl Bvh {
+    /// The hierarchy of `scene`'s polygons, fanned into triangles.
     pub fn new(scene: &Scene) -> Bvh {
         let mut triangles = Vec::new();
         let mut polygon = Vec::new();

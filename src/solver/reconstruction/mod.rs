@@ -14,7 +14,8 @@
 //! The receivers are rasterised once, at initialisation, into atlas textures holding each patch's
 //! position, normal and reflectance (`patch_data.rs`, with the polygons' planes); every pass
 //! then picks the blocks to draw (`receivers.rs`) and draws squares of whole 4×4 texel blocks
-//! covering them (`cover.rs`). With `Tuning::none()` (the paper's mode) every patch is drawn
+//! covering them (`cover.rs`), with the programs of `programs.rs` and the texture units and
+//! uniforms of `uniforms.rs`. With `Tuning::none()` (the paper's mode) every patch is drawn
 //! every pass, into renderbuffers cleared first. The speed switches of `Tuning` run a marking
 //! pass so that only the texels the shooter sees compute form factors (and can draw only the
 //! receivers' blocks); the texels they leave alone keep the renderbuffers' values, which the
@@ -25,36 +26,35 @@
 mod cover;
 mod lit_share;
 mod patch_data;
+mod programs;
 mod receivers;
+mod uniforms;
 
-use super::mesh::ATTRIBUTES;
+use super::pass_names::{ACCUMULATION, INITIALISATION, RECONSTRUCTION};
 use super::visibility::VisibilityPass;
-use super::{FormFactorKind, Shooter, SolveOptions, Tuning, VisibilityKind};
+use super::{Shooter, SolveOptions, Tuning};
 use crate::gl::faults::{self, Fault};
-use crate::gl::program::Source;
-use crate::gl::{
-    Framebuffer, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
-};
-use crate::glsl;
+use crate::gl::{Framebuffer, GlContext, GlError, Mesh, Renderbuffer, Texture, TextureFormat};
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
 use cover::Squares;
 use glow::HasContext;
 use patch_data::{PatchData, PolygonPlanes};
+use programs::{Choices, Programs};
 use receivers::Receivers;
-
-pub const NAME: &str = "reconstruction";
-pub const INIT_NAME: &str = "initialisation";
-pub const COPY_NAME: &str = "accumulation";
+use uniforms::{Uniforms, UNITS};
 
 /// The two lightmap atlases of section 3.1: accumulated and unshot radiance (RGBA32F, alpha =
 /// polygon ID + 1). The reconstruction pass samples them; the copies after it replace them.
 pub struct Lightmaps {
+    /// Accumulated radiance: what the display shows.
     pub radiosity: Texture,
+    /// Unshot radiance: what each polygon has left to shoot.
     pub unshot: Texture,
 }
 
 impl Lightmaps {
+    /// Both atlases, `width` x `height`, zero.
     pub fn new(ctx: &GlContext, width: i32, height: i32) -> Result<Self, GlError> {
         let make = || {
             Texture::new(
@@ -71,109 +71,6 @@ impl Lightmaps {
         })
     }
 }
-
-/// The pass's programs: `glsl/reconstruct.frag` in its variants for one number of shooters per
-/// pass (`SHOOTERS`), and the emission shader.
-struct Programs {
-    /// For `shooters` shooters a pass (`SolveOptions::shooters_per_pass`); a pass with fewer
-    /// pads the rest (`ReconstructionPass::run`).
-    for_slots: ShooterPrograms,
-    shooters: usize,
-    /// The choices compiled into `for_slots` (`Tuning::compile_choices`); none: read from
-    /// uniforms, so the programs serve any options.
-    compiled: Option<Choices>,
-    /// Writes each patch's emitted radiance (and its polygon ID in alpha) at initialisation.
-    emission: Program,
-}
-
-/// `glsl/reconstruct.frag` compiled for one number of shooters.
-struct ShooterPrograms {
-    /// The shader as the paper has it: visibility, form factor and GL_ADD in one program, for any
-    /// corner count and for quadrilateral shooters (`CORNERS`).
-    literal: [Program; 2],
-    /// The same after a marking pass (`MARKED`: visibility already tested), clipping the shooter
-    /// to each receiver's tangent plane.
-    marked: [Program; 2],
-    /// The same, compiled for receivers that have the whole shooter above that plane (no
-    /// clipping: a third fewer shader instructions on llvmpipe; see `glsl/reconstruct.frag`).
-    above: [Program; 2],
-    /// The marking pass (`MARK`): writes depth where a texel can receive, so that
-    /// the programs above shade only those texels' blocks.
-    marking: Program,
-}
-
-/// A solve's fixed choices that `glsl/reconstruct.frag` branches on: the form factor, the
-/// visibility kind and the robust test (the shader's `FormFactorKind`, `HemiCube` and `Robust`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Choices {
-    polygon_form_factor: bool,
-    hemicube: bool,
-    robust: bool,
-}
-
-impl Choices {
-    fn of(options: &SolveOptions) -> Self {
-        Choices {
-            polygon_form_factor: options.form_factor == FormFactorKind::Polygon,
-            hemicube: options.visibility == VisibilityKind::Hemicube,
-            robust: options.robust_visibility,
-        }
-    }
-
-    /// `source` with the choices compiled in as constants.
-    fn define(&self, source: Source) -> Source {
-        source
-            .define("FORM_FACTOR_KIND", self.polygon_form_factor as i32)
-            .define("HEMI_CUBE", self.hemicube as i32)
-            .define("ROBUST", self.robust as i32)
-    }
-}
-
-impl Programs {
-    fn new(ctx: &GlContext, options: &SolveOptions) -> Result<Self, GlError> {
-        let gl = &ctx.gl;
-        let squares_in = &[(0, "Corner"), (1, "Size")];
-        let compile =
-            |source: Source| Program::new(gl, glsl!("atlas.vert"), source, squares_in, OUTPUTS);
-        let compiled = options.tuning.compile_choices.then(|| Choices::of(options));
-        let shooters = options.shooters_per_pass.max(1);
-        let frag = || {
-            let source = glsl!("reconstruct.frag").define("SHOOTERS", shooters as i32);
-            match &compiled {
-                Some(choices) => choices.define(source),
-                None => source,
-            }
-        };
-        let marked = || frag().define("MARKED", 1);
-        let above = || marked().define("SHOOTER_ABOVE", 1);
-        let for_slots = ShooterPrograms {
-            literal: [compile(frag())?, compile(frag().define("CORNERS", 4))?],
-            marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
-            above: [compile(above())?, compile(above().define("CORNERS", 4))?],
-            marking: compile(frag().define("MARK", 1))?,
-        };
-        Ok(Programs {
-            for_slots,
-            shooters: shooters as usize,
-            compiled,
-            emission: Program::new(
-                gl,
-                glsl!("lightmap.vert"),
-                glsl!("emission.frag"),
-                ATTRIBUTES,
-                OUTPUTS,
-            )?,
-        })
-    }
-}
-
-/// `f`'s values for each of `shooters`, one after another: a uniform array's contents.
-fn per_shooter<T, const N: usize>(shooters: &[Shooter], f: impl Fn(&Shooter) -> [T; N]) -> Vec<T> {
-    shooters.iter().flat_map(f).collect()
-}
-
-/// The two outputs: 0 = radiosity + ΔL, 1 = unshot + ΔL (zero for the texels that shoot).
-const OUTPUTS: &[(u32, &str)] = &[(0, "NewRadiosity"), (1, "NewUnshot")];
 
 /// What the pass draws into: an FBO of two RGBA32F renderbuffers the size of the atlas (the
 /// outputs), and a depth renderbuffer for the marking pass.
@@ -196,7 +93,7 @@ impl Renderbuffers {
         fbo.attach_renderbuffer(glow::COLOR_ATTACHMENT1, &unshot);
         let marks = Renderbuffer::new(gl, glow::DEPTH_COMPONENT32F, width, height)?;
         fbo.attach_renderbuffer(glow::DEPTH_ATTACHMENT, &marks);
-        fbo.check_complete(NAME)?;
+        fbo.check_complete(RECONSTRUCTION)?;
         Ok(Renderbuffers {
             fbo,
             _radiosity: radiosity,
@@ -246,6 +143,8 @@ fn draw_flat(
     }
 }
 
+/// The reconstruction pass (3.2.2): every receiving patch's ΔL = ρ·F·E from the shooters whose
+/// item buffers see it, drawn over the atlas into renderbuffers, then added to the lightmaps.
 pub struct ReconstructionPass {
     programs: Programs,
     target: Renderbuffers,
@@ -286,7 +185,7 @@ impl ReconstructionPass {
         let patches = PatchData::new(gl, width, height)?;
         let target = Renderbuffers::new(ctx, width, height)?;
         unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
-        ctx.check(NAME)?;
+        ctx.check(RECONSTRUCTION)?;
         Ok(ReconstructionPass {
             programs,
             target,
@@ -308,7 +207,7 @@ impl ReconstructionPass {
         self.target.begin(ctx, true);
         self.programs.emission.use_program();
         mesh.draw();
-        ctx.check(INIT_NAME)
+        ctx.check(INITIALISATION)
     }
 
     /// The receivers to draw for `shooters` (`Receivers::select`), covered by aligned squares of
@@ -339,6 +238,36 @@ impl ReconstructionPass {
         shooters: &[Shooter],
         options: &SolveOptions,
     ) -> Result<(), GlError> {
+        self.refuse(shooters.len(), options)?;
+        let tuning = self.tuning_of_pass(options.tuning);
+        self.select_receivers(shooters, &tuning);
+        let slots = self.with_idle_slots(shooters);
+        // When every texel is recomputed from the textures this pass, nothing of the last pass
+        // stays in the renderbuffers.
+        self.target.begin(ctx, tuning.writes_every_texel());
+        self.bind_textures(visibility, lightmaps, shooters.len());
+        self.begin_squares(ctx);
+        let uniforms = Uniforms::new(&slots, options, &self.planes);
+        if tuning.marking_pass {
+            self.mark(ctx, &uniforms);
+        }
+        let quad = tuning.unroll_quads && slots.iter().all(|s| s.corner_count == 4);
+        self.quad_passes += quad as u32;
+        let (clipping, not_clipping) = self.programs.for_slots.shading(tuning.marking_pass, quad);
+        let [clipped, above] = self.squares.runs();
+        for (p, (first, count)) in [(clipping, clipped), (not_clipping, above)] {
+            if count > 0 {
+                uniforms.set(p);
+                self.squares.draw(first, count);
+            }
+        }
+        self.end_squares(ctx);
+        ctx.check(RECONSTRUCTION)
+    }
+
+    /// Refuse a pass the programs cannot serve: other choices than those compiled in, or no
+    /// shooters, or more than the programs' slots.
+    fn refuse(&self, count: usize, options: &SolveOptions) -> Result<(), GlError> {
         if let Some(compiled) = self.programs.compiled {
             if compiled != Choices::of(options) {
                 return Err(GlError::Limit(format!(
@@ -347,154 +276,114 @@ impl ReconstructionPass {
                 )));
             }
         }
-        let count = shooters.len();
         let slots = self.programs.shooters;
         if count == 0 || count > slots {
             return Err(GlError::Limit(format!(
                 "{count} shooters in one reconstruction pass; it was set up for 1 to {slots}"
             )));
         }
-        let mut tuning = options.tuning;
+        Ok(())
+    }
+
+    /// `tuning` for this pass: the marking pass only if the last shot lit little enough
+    /// (`Tuning::marking_below`), counted in `marked_passes`.
+    fn tuning_of_pass(&mut self, mut tuning: Tuning) -> Tuning {
         let lit = self.lit_share();
         tuning.marking_pass &= tuning.marks_after(lit);
         if let Some(l) = &mut self.lit {
             l.passed();
         }
         self.marked_passes += tuning.marking_pass as u32;
-        self.select_receivers(shooters, &tuning);
-        // The programs serve `slots` shooters. A pass with fewer (a step's last polygons, or a
-        // polygon whose cells fill the pass alone) fills the other slots with copies of its
-        // first shooter that carry no energy and own no texels, seeing through its item
-        // buffer: they add exactly zero and mark only what it marks. One set of programs
-        // rather than one per count: compiling them all cost the set-up more than the few
-        // short passes cost the loop.
+        tuning
+    }
+
+    /// `shooters` and idle ones after them, one per slot of the programs. A pass with fewer
+    /// shooters than slots (a step's last polygons, or a polygon whose cells fill the pass
+    /// alone) fills the others with copies of its first shooter that carry no energy and own
+    /// no texels, seeing through its item buffer: they add exactly zero and mark only what it
+    /// marks. One set of programs rather than one per count: compiling them all cost the
+    /// set-up more than the few short passes cost the loop.
+    fn with_idle_slots(&self, shooters: &[Shooter]) -> Vec<Shooter> {
         let idle = Shooter {
             energy: glam::Vec3::ZERO,
             texels: [0; 4],
             remainder: glam::Vec3::ZERO,
             ..shooters[0]
         };
-        let shooters: Vec<Shooter> = (shooters.iter().copied())
-            .chain(std::iter::repeat_n(idle, slots - count))
-            .collect();
-        let shooters = &shooters[..];
-        // When every texel is recomputed from the textures this pass, nothing of the last pass
-        // stays in the renderbuffers.
-        self.target.begin(ctx, tuning.writes_every_texel());
-        // Shooter 0's item buffer on unit 0, the others' on units 7, 8, … (the idle ones get
-        // shooter 0's).
-        let units: Vec<i32> = (0..slots)
-            .map(|k| if k == 0 { 0 } else { 6 + k as i32 })
-            .collect();
-        for (k, &unit) in units.iter().enumerate() {
+        let idle_slots = self.programs.shooters - shooters.len();
+        (shooters.iter().copied())
+            .chain(std::iter::repeat_n(idle, idle_slots))
+            .collect()
+    }
+
+    /// Bind every texture the programs sample to its unit of [`UNITS`]: the item buffers of
+    /// the first `count` slots (the idle slots get the first's), the lightmaps, the planes and
+    /// the patch data.
+    fn bind_textures(&self, visibility: &VisibilityPass, lightmaps: &Lightmaps, count: usize) {
+        for (k, &unit) in UNITS.item_buffers[..self.programs.shooters]
+            .iter()
+            .enumerate()
+        {
             let slot = if k < count { k } else { 0 };
-            visibility.slot_texture(slot).bind(unit as u32);
+            visibility.slot_texture(slot).bind(unit);
         }
-        lightmaps.radiosity.bind(1);
-        lightmaps.unshot.bind(2);
-        self.planes.texture.bind(3);
-        self.patches.bind(4);
+        lightmaps.radiosity.bind(UNITS.lightmap_radiosity);
+        lightmaps.unshot.bind(UNITS.lightmap_unshot);
+        self.planes.texture.bind(UNITS.polygon_planes);
+        let (position, normal, reflectance) = (
+            UNITS.patch_position,
+            UNITS.patch_normal,
+            UNITS.patch_reflectance,
+        );
+        self.patches.bind(position, normal, reflectance);
+    }
+
+    /// Set the viewport and scissor for the squares (and points of any size, if drawn as
+    /// points).
+    fn begin_squares(&self, ctx: &GlContext) {
         let gl = &ctx.gl;
-        let points = self.squares.as_points();
         unsafe {
             let (w, h) = self.squares.viewport;
             gl.viewport(0, 0, w, h);
             gl.enable(glow::SCISSOR_TEST);
             gl.scissor(0, 0, self.target.width, self.target.height);
-            if points {
+            if self.squares.as_points() {
                 gl.enable(glow::PROGRAM_POINT_SIZE);
             }
         }
-        // The shooters' uniforms, one array element per shooter (the corners: MAX_CORNERS each).
-        let texels = per_shooter(shooters, |s| s.texels.map(|t| t as i32));
-        let remainders = per_shooter(shooters, |s| s.remainder.to_array());
-        let hemi_res = per_shooter(shooters, |s| [s.hemi_res as i32]);
-        let views = per_shooter(shooters, |s| s.view().to_cols_array());
-        let positions = per_shooter(shooters, |s| s.position.to_array());
-        let normals = per_shooter(shooters, |s| s.normal.to_array());
-        let energies = per_shooter(shooters, |s| s.energy.to_array());
-        let ids = per_shooter(shooters, |s| [s.polygon as f32]);
-        let corners: Vec<f32> = (shooters.iter())
-            .flat_map(|s| s.corners.iter().flat_map(|v| v.to_array()))
-            .collect();
-        let corner_counts = per_shooter(shooters, |s| [s.corner_count as i32]);
-        let areas = per_shooter(shooters, |s| [s.area]);
-        let planes = &self.planes;
-        let programs = &self.programs.for_slots;
-        let uniforms = |p: &Program| {
-            p.use_program();
-            p.set_i32("PatchPosition", 4);
-            p.set_i32("PatchNormal", 5);
-            p.set_i32("PatchReflectance", 6);
-            p.set_i32("LightmapRadiosity", 1);
-            p.set_i32("LightmapUnshot", 2);
-            p.set_ivec4_array("ShooterTexels", &texels);
-            p.set_vec3_array("ShooterRemainder", &remainders);
-            p.set_i32_array("HemiRes", &hemi_res);
-            p.set_i32_array("HemiItemBuffer", &units);
-            p.set_mat4_array("ShooterView", &views);
-            p.set_vec3_array("ShootPos", &positions);
-            p.set_vec3_array("ShootNormal", &normals);
-            p.set_vec3_array("ShootEnergy", &energies);
-            p.set_f32_array("ShooterId", &ids);
-            p.set_i32(
-                "FormFactorKind",
-                (options.form_factor == FormFactorKind::Polygon) as i32,
-            );
-            p.set_vec3_array("ShootCorners", &corners);
-            p.set_i32_array("ShootCornerCount", &corner_counts);
-            p.set_f32_array("ShootArea", &areas);
-            p.set_i32(
-                "HemiCube",
-                (options.visibility == VisibilityKind::Hemicube) as i32,
-            );
-            p.set_i32("Robust", options.robust_visibility as i32);
-            p.set_i32("PolygonPlanes", 3);
-            p.set_i32("PlanesWidth", planes.texture.width);
-            p.set_i32("PlanesShift", planes.texture.width.trailing_zeros() as i32);
-            p.set_f32("PlaneSlack", planes.slack);
-        };
-        if tuning.marking_pass {
-            // Marking: depth 1 cleared, the squares' depth (½) written where a texel can
-            // receive or shoots, nothing else; the pass proper then shades those texels only.
-            unsafe {
-                gl.depth_mask(true);
-                gl.clear_depth_f64(1.0);
-                gl.clear(glow::DEPTH_BUFFER_BIT);
-                gl.enable(glow::DEPTH_TEST);
-                gl.depth_func(glow::ALWAYS);
-                gl.color_mask(false, false, false, false);
-            }
-            uniforms(&programs.marking);
-            self.squares.draw_all();
-            unsafe {
-                gl.depth_func(glow::EQUAL);
-                gl.depth_mask(false);
-                gl.color_mask(true, true, true, true);
-            }
+    }
+
+    /// The marking pass: depth 1 cleared, the squares' depth (½) written where a texel can
+    /// receive or shoots, nothing else; then depth test EQUAL without writing, so that the pass
+    /// proper shades those texels only.
+    fn mark(&self, ctx: &GlContext, uniforms: &Uniforms) {
+        let gl = &ctx.gl;
+        unsafe {
+            gl.depth_mask(true);
+            gl.clear_depth_f64(1.0);
+            gl.clear(glow::DEPTH_BUFFER_BIT);
+            gl.enable(glow::DEPTH_TEST);
+            gl.depth_func(glow::ALWAYS);
+            gl.color_mask(false, false, false, false);
         }
-        let quads = shooters.iter().all(|s| s.corner_count == 4);
-        let quad = (tuning.unroll_quads && quads) as usize;
-        self.quad_passes += quad as u32;
-        let (clipping, not_clipping) = if tuning.marking_pass {
-            (&programs.marked[quad], &programs.above[quad])
-        } else {
-            (&programs.literal[quad], &programs.literal[quad])
-        };
-        let [clipped, above] = self.squares.runs();
-        for (p, (first, count)) in [(clipping, clipped), (not_clipping, above)] {
-            if count > 0 {
-                uniforms(p);
-                self.squares.draw(first, count);
-            }
+        uniforms.set(&self.programs.for_slots.marking);
+        self.squares.draw_all();
+        unsafe {
+            gl.depth_func(glow::EQUAL);
+            gl.depth_mask(false);
+            gl.color_mask(true, true, true, true);
         }
+    }
+
+    /// Undo `begin_squares` and `mark`'s state.
+    fn end_squares(&self, ctx: &GlContext) {
+        let gl = &ctx.gl;
         unsafe {
             gl.disable(glow::PROGRAM_POINT_SIZE);
             gl.disable(glow::DEPTH_TEST);
             gl.disable(glow::SCISSOR_TEST);
             gl.active_texture(glow::TEXTURE0);
         }
-        ctx.check(NAME)
     }
 
     /// The squares the last pass drew with the clipping shader and with the one that does not
@@ -551,7 +440,7 @@ impl ReconstructionPass {
                 self.target.height,
             );
         }
-        ctx.check(COPY_NAME)
+        ctx.check(ACCUMULATION)
     }
 
     /// The paper's accumulation: glCopyTexSubImage2D from the renderbuffers into the lightmaps.
@@ -568,6 +457,6 @@ impl ReconstructionPass {
             ctx.gl.read_buffer(glow::COLOR_ATTACHMENT0);
             ctx.gl.bind_framebuffer(glow::FRAMEBUFFER, None);
         }
-        ctx.check(COPY_NAME)
+        ctx.check(ACCUMULATION)
     }
 }

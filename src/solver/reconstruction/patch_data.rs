@@ -2,11 +2,12 @@
 //! position, normal and reflectance, rasterised once into atlas textures
 //! (`glsl/patchdata.frag`), and each polygon's plane, for the robust visibility test.
 
-use super::{draw_flat, INIT_NAME};
+use super::draw_flat;
 use crate::gl::{Framebuffer, Gl, GlContext, GlError, Mesh, Program, Texture, TextureFormat};
 use crate::glsl;
 use crate::scene::Scene;
 use crate::solver::mesh::ATTRIBUTES;
+use crate::solver::pass_names::INITIALISATION;
 
 /// Each patch's geometry as atlas textures (RGBA32F): position + polygon ID + 1, normal, Kd.
 pub(super) struct PatchData {
@@ -46,7 +47,7 @@ impl PatchData {
         patches
             .fbo
             .attach_texture(glow::COLOR_ATTACHMENT2, &patches.reflectance);
-        patches.fbo.check_complete(INIT_NAME)?;
+        patches.fbo.check_complete(INITIALISATION)?;
         Ok(patches)
     }
 
@@ -66,14 +67,15 @@ impl PatchData {
         );
         self.program.use_program();
         mesh.draw();
-        ctx.check(INIT_NAME)
+        ctx.check(INITIALISATION)
     }
 
-    /// Bind position, normal and reflectance to texture units `first`, `first + 1`, `first + 2`.
-    pub(super) fn bind(&self, first: u32) {
-        self.position.bind(first);
-        self.normal.bind(first + 1);
-        self.reflectance.bind(first + 2);
+    /// Bind position, normal and reflectance to texture units `position`, `normal`,
+    /// `reflectance`.
+    pub(super) fn bind(&self, position: u32, normal: u32, reflectance: u32) {
+        self.position.bind(position);
+        self.normal.bind(normal);
+        self.reflectance.bind(reflectance);
     }
 }
 

@@ -14,31 +14,35 @@
 //! ```
 //!
 //! The paper draws the whole scene into each view. What this pass does besides, for llvmpipe's
-//! sake, is switched by [`Tuning`] (each switch documented there): views culled by bounding
-//! spheres, a guard band around each hemicube face, draws split by whether they need clipping,
-//! half side faces, coplanar neighbours drawn as one plate (`plates`), the far faces of convex
-//! solids left out (`solids`), float depth, and a glFlush at the end.
+//! sake, is switched by [`Tuning`] (each switch documented there): what each view leaves out, in
+//! `culling` (views culled by bounding spheres, draws split by whether they need clipping,
+//! coplanar neighbours drawn as one plate (`plates`), the far faces of convex solids left out
+//! (`solids`), polygons between the pixel centres (`samples`)), and in the draw itself a guard
+//! band around each hemicube face, half side faces, float depth, and a glFlush at the end.
 
+pub mod culling;
 pub mod plates;
 pub mod samples;
 pub mod solids;
 
 use super::mesh::{SceneMesh, ATTRIBUTES};
+use super::pass_names::VISIBILITY;
 use super::{Shooter, Tuning, VisibilityKind};
-use crate::geometry::{mean, sphere_around, Plane};
 use crate::gl::{
     Framebuffer, GlContext, GlError, IndexStream, Program, Renderbuffer, Texture, TextureFormat,
 };
 use crate::glsl;
 use crate::scene::Scene;
+use culling::{Culling, DrawList, ViewDraw};
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
 use plates::Plates;
-use samples::Outlines;
-use solids::Solids;
 
+/// The visibility pass (3.2.2): the scene drawn from a shooter into an item buffer of polygon
+/// IDs, which the reconstruction pass reads to tell whether a receiver is seen.
 pub struct VisibilityPass {
     program: Program,
+    /// Hemicube or hemispherical projection.
     pub kind: VisibilityKind,
     /// The item buffers, one per shooter of a reconstruction pass (`with_slots`; one in the
     /// paper), each with its depth buffer and FBO.
@@ -54,33 +58,16 @@ pub struct VisibilityPass {
     /// The part of the item buffer the last pass drew (width, height): all of it, or the
     /// lower-left corner for a shot at a smaller resolution (`Shooter::hemi_res`).
     drawn: (i32, i32),
-    /// Each polygon's bounding sphere (centre, radius), for culling.
-    spheres: Vec<(Vec3, f32)>,
-    /// The polygons in front of the shooter: (polygon, sphere centre in eye space, radius) (reused).
-    in_front: Vec<(usize, Vec3, f32)>,
-    /// The triangles each view draws after culling, views one after another, each view's
-    /// unclipped polygons first (reused).
-    indices: Vec<u32>,
-    /// One view's polygons that may need clipping, gathered to follow its others (reused).
-    clipped: Vec<u32>,
-    stream: IndexStream,
-    /// The scene's convex solids, whose faces turned away from the shooter are left out (see
-    /// `solids`: the item buffer stays the same).
-    solids: Solids,
-    /// Each polygon's plane.
-    planes: Vec<Plane>,
-    /// Per solid, whether the current shooter is clear of it (reused).
-    outside: Vec<bool>,
     /// Coplanar polygons drawn as one (`merge_plates`; at first every polygon alone).
     plates: Plates,
-    /// Each drawn polygon's corners, for `Tuning::cull_between_samples`.
-    outlines: Outlines,
-    /// How many times a view left a polygon out as falling between the pixel centres, over all
-    /// passes (`Tuning::cull_between_samples`).
-    pub missed: u64,
+    /// What each view may leave out, and its buffers.
+    culling: Culling,
+    /// Whether the tuning asks for culling at all (`Culling::asked`); if not, every view draws
+    /// the whole scene.
+    culls: bool,
+    /// The triangles the views of the last shot drew.
+    stream: IndexStream,
 }
-
-pub const NAME: &str = "visibility";
 
 /// One item buffer (RGBA8, ID + 1 in RGB, 0 = nothing seen) with its depth buffer and FBO.
 struct ItemSlot {
@@ -108,7 +95,7 @@ impl ItemSlot {
         let fbo = Framebuffer::new(gl)?;
         fbo.attach_texture(glow::COLOR_ATTACHMENT0, &item_buffer);
         fbo.attach_renderbuffer(glow::DEPTH_ATTACHMENT, &depth);
-        fbo.check_complete(NAME)?;
+        fbo.check_complete(VISIBILITY)?;
         Ok(ItemSlot {
             item_buffer,
             _depth: depth,
@@ -154,6 +141,7 @@ pub fn item_buffer_size(kind: VisibilityKind, res: u32) -> (u64, u64) {
 }
 
 impl VisibilityPass {
+    /// A pass with one item buffer (the paper's: one shooter per pass).
     pub fn new(
         ctx: &GlContext,
         kind: VisibilityKind,
@@ -176,7 +164,6 @@ impl VisibilityPass {
     ) -> Result<Self, GlError> {
         let gl = &ctx.gl;
         let scene_size = scene.size();
-        let spheres = scene.polygons.iter().map(|p| p.bounding_sphere()).collect();
         let vertex = match kind {
             VisibilityKind::Hemisphere => glsl!("hemiproj.vert"),
             VisibilityKind::Hemicube => glsl!("hemicube.vert"),
@@ -198,7 +185,7 @@ impl VisibilityPass {
             .map(|_| ItemSlot::new(gl, width, res, tuning.float_depth))
             .collect::<Result<Vec<_>, GlError>>()?;
         unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
-        ctx.check(NAME)?;
+        ctx.check(VISIBILITY)?;
         // Near plane: 1e-4 of the scene, so the shooter's own plane is clipped away but receivers
         // a hair in front of it are kept. Far plane: beyond anything in the scene.
         let near_far = [scene_size * 1e-4, scene_size * 2.0];
@@ -211,7 +198,6 @@ impl VisibilityPass {
         } else {
             1
         };
-        let plates = Plates::none(scene.polygons.len());
         Ok(VisibilityPass {
             program,
             kind,
@@ -221,34 +207,24 @@ impl VisibilityPass {
             guard,
             near_far,
             drawn: (width, res),
-            spheres,
-            in_front: Vec::new(),
-            indices: Vec::new(),
-            clipped: Vec::new(),
+            plates: Plates::none(scene.polygons.len()),
+            culling: Culling::new(scene, kind, tuning, near_far[0], guard),
+            culls: Culling::asked(&tuning, kind),
             stream: IndexStream::new(gl)?,
-            solids: Solids::find(scene),
-            planes: scene.polygons.iter().map(|p| p.plane()).collect(),
-            outside: Vec::new(),
-            outlines: Outlines::new(scene, &plates),
-            plates,
-            missed: 0,
         })
     }
 
     /// Merge coplanar polygons outside the solids into plates (`Tuning::plates`; hemicube only:
     /// the hemispherical projection needs small polygons, and bigger ones would curve more). The
-    /// caller then draws a mesh made by `mesh::plate_data` from the plates returned; the item
+    /// caller then draws a mesh made by `Plates::vertex_data` from the plates returned; the item
     /// buffer shows each plate under its representative's ID. Only for the robust visibility
     /// test, which reads the shown polygon's plane, not its ID alone. With the switch off every
-    /// polygon stays alone, and `plate_data` gives the scene's own mesh.
+    /// polygon stays alone, and `Plates::vertex_data` gives the scene's own mesh.
     pub fn merge_plates(&mut self, scene: &Scene) -> &Plates {
         if self.kind == VisibilityKind::Hemicube && self.tuning.plates {
-            let solids = &self.solids;
+            let solids = &self.culling.solids;
             self.plates = Plates::find(scene, |p| solids.solid_of[p].is_none());
-            for (&p, outline) in &self.plates.outlines {
-                self.spheres[p] = sphere_around(mean(outline), outline);
-            }
-            self.outlines = Outlines::new(scene, &self.plates);
+            self.culling.use_plates(scene, &self.plates);
         }
         &self.plates
     }
@@ -258,10 +234,7 @@ impl VisibilityPass {
         self.plates.representative[p]
     }
 
-    /// Draw the item buffer from `shooter` (into the first slot). With `Tuning::cull_views` each view draws only the
-    /// polygons whose bounding sphere reaches into it and in front of the shooter, and with
-    /// `Tuning::half_side_faces` the hemicube's side faces fill only their upper halves, the
-    /// part above the shooter's horizon that the reconstruction pass looks up.
+    /// Draw the item buffer from `shooter` into the first slot, the paper's one (`run_in_slot`).
     pub fn run(
         &mut self,
         ctx: &GlContext,
@@ -271,7 +244,9 @@ impl VisibilityPass {
         self.run_in_slot(ctx, mesh, shooter, 0)
     }
 
-    /// `run` into item buffer `slot` (`with_slots`; `slot_texture`).
+    /// `run` into item buffer `slot` (`with_slots`; `slot_texture`): the paper's "render the
+    /// scene from the shooter", polygon IDs as colours, each view drawing what culling left
+    /// (`culling`; the whole scene with `Tuning::none`).
     pub fn run_in_slot(
         &mut self,
         ctx: &GlContext,
@@ -279,120 +254,55 @@ impl VisibilityPass {
         shooter: &Shooter,
         slot: usize,
     ) -> Result<(), GlError> {
-        let gl = &ctx.gl;
-        let Some(target) = self.slots.get(slot) else {
+        if slot >= self.slots.len() {
             return Err(GlError::Limit(format!(
                 "item-buffer slot {slot} of a pass set up for {}",
                 self.slots.len()
             )));
-        };
-        let view = shooter.view();
-        let views = match self.kind {
-            VisibilityKind::Hemisphere => 1,
-            VisibilityKind::Hemicube => 5,
-        };
-        let rotations = face_rotations();
-        // Wholly behind the shooter's plane: nothing it could hide is looked up. The rest, with
-        // their spheres' centres in the shooter's eye space, once for all the views.
-        let s = shooter.position;
-        let solids = &self.solids;
-        self.outside.clear();
-        // Clear of the near plane too: geometry nearer than it is clipped away, and a clipped
-        // near face would show the far face behind it. On a face axis, depth ≥ distance / √3.
-        let margin = self.near_far[0] * 3f32.sqrt();
-        let tuning = self.tuning;
-        self.outside.extend(
-            // Only where projected straight edges are exact (the hemicube): the hemispherical
-            // projection drawn with straight edges lets a far face peek past the near ones.
-            (0..solids.count()).map(|k| {
-                tuning.cull_solids
-                    && self.kind == VisibilityKind::Hemicube
-                    && solids.clear_of(k, s, margin)
-            }),
-        );
-        self.in_front.clear();
-        // The shooter's plate lies in the shooter's plane, which the near plane clips away (and
-        // the shaders put it beyond the far plane).
-        let shooter_plate = self.plates.representative[shooter.polygon];
-        for (p, &(centre, radius)) in self.spheres.iter().enumerate() {
-            if self.plates.representative[p] != p {
-                continue;
-            }
-            let c = view.transform_point3(centre);
-            if tuning.cull_views && (p == shooter_plate || c.z >= radius) {
-                continue;
-            }
-            // A solid's face turned away from a shooter outside the solid hides nothing.
-            if let Some(k) = solids.solid_of[p] {
-                if self.outside[k] && self.planes[p].distance(s) < -solids.slack {
-                    continue;
-                }
-            }
-            self.in_front.push((p, c, radius));
         }
-        // Per view: the first index, the polygons wholly inside the guarded frustum and beyond
-        // the near plane (no vertex to clip: llvmpipe's fast path), then the others; without
-        // `split_unclipped`, all of them as "others", in the scene's order.
-        let mut ranges = [(0usize, 0usize, 0usize); 5];
+        let view = shooter.view();
         // This shot's resolution (`SolveOptions::small_hemi_res`): the views fill the item
         // buffer's lower-left corner, and the reconstruction pass looks up only that.
         let r = (shooter.hemi_res as i32).clamp(1, self.resolution);
-        let g = self.guard as f32;
-        let side = (1.0 + g * g).sqrt();
-        let near = self.near_far[0];
-        self.indices.clear();
-        // Pixels across per unit of tangent, to tell which polygons project small enough to
-        // fall between the pixel centres (`samples`).
-        let pixels_per_tangent = r as f32 / 2.0;
-        for (k, range) in ranges.iter_mut().enumerate().take(views) {
-            let start = self.indices.len();
-            self.clipped.clear();
-            let face = Mat4::from_mat3(rotations[k]) * view;
-            for &(p, c, radius) in &self.in_front {
-                let mut inside = false;
-                if self.kind == VisibilityKind::Hemicube {
-                    // Outside one of the face's four 45° side planes (unit normals (±1, 0, -1)/√2
-                    // and (0, ±1, -1)/√2 in face space).
-                    let f = rotations[k] * c;
-                    let reach = radius * std::f32::consts::SQRT_2;
-                    if tuning.cull_views && (-f.z - f.x.abs() < -reach || -f.z - f.y.abs() < -reach)
-                    {
-                        continue;
-                    }
-                    let depth = -f.z - radius;
-                    if tuning.cull_between_samples
-                        && depth > 2.0 * near
-                        && 2.0 * radius / depth * pixels_per_tangent < samples::MAX_EXTENT
-                        && samples::misses_every_centre(
-                            self.outlines.of(p),
-                            &face,
-                            r as f32,
-                            2.0 * near,
-                        )
-                    {
-                        self.missed += 1;
-                        continue;
-                    }
-                    // Inside the guarded side planes (normals (±1, 0, -g)/√(1 + g²), ...).
-                    inside = tuning.split_unclipped
-                        && -f.z - radius > 2.0 * near
-                        && -g * f.z - f.x.abs() > radius * side
-                        && -g * f.z - f.y.abs() > radius * side;
-                }
-                let (first, count) = mesh.ranges[p];
-                let corners = &mesh.triangles[first as usize..(first + count) as usize];
-                if inside {
-                    self.indices.extend_from_slice(corners);
-                } else {
-                    self.clipped.extend_from_slice(corners);
-                }
-            }
-            let unclipped = self.indices.len() - start;
-            self.indices.extend_from_slice(&self.clipped);
-            *range = (start, unclipped, self.indices.len() - start - unclipped);
+        let views = self.upload_draw_list(mesh, shooter, view, r);
+        self.clear_slot(ctx, slot, r);
+        self.program.use_program();
+        // The shooter's plate lies in the shooter's plane, which the near plane clips away;
+        // the shaders put it beyond the far plane.
+        self.program
+            .set_f32("ShooterId", self.shown_as(shooter.polygon) as f32);
+        self.program.set_mat4("ShooterView", &view.to_cols_array());
+        match self.kind {
+            VisibilityKind::Hemisphere => self.draw_hemisphere(mesh, views[0]),
+            VisibilityKind::Hemicube => self.draw_hemicube(ctx, mesh, &views, view, r),
         }
-        self.stream.upload(&self.indices);
+        self.finish(ctx)
+    }
 
+    /// Upload the triangles each view draws from `shooter` (view matrix `view`, `r` pixels per
+    /// side): what culling leaves if the tuning asks for it, else the whole scene; where each
+    /// view's triangles are in the upload.
+    fn upload_draw_list(
+        &mut self,
+        mesh: &SceneMesh,
+        shooter: &Shooter,
+        view: Mat4,
+        r: i32,
+    ) -> [ViewDraw; 5] {
+        let list = if self.culls {
+            self.culling.draw_list(mesh, shooter, view, &self.plates, r)
+        } else {
+            DrawList::whole(&mesh.triangles)
+        };
+        self.stream.upload(list.indices);
+        list.views
+    }
+
+    /// Bind slot `slot`'s FBO for a depth-tested draw of IDs and clear the part a shot at `r`
+    /// pixels per side draws (the lower-left corner; `drawn`).
+    fn clear_slot(&mut self, ctx: &GlContext, slot: usize, r: i32) {
+        let gl = &ctx.gl;
+        let target = &self.slots[slot];
         let (width, height) = (target.item_buffer.width / self.resolution * r, r);
         self.drawn = (width, height);
         target.fbo.bind();
@@ -413,60 +323,76 @@ impl VisibilityPass {
             gl.clear(glow::DEPTH_BUFFER_BIT);
             gl.disable(glow::SCISSOR_TEST);
         }
-        self.program.use_program();
-        self.program.set_f32("ShooterId", shooter_plate as f32);
-        self.program.set_mat4("ShooterView", &view.to_cols_array());
-        match self.kind {
-            VisibilityKind::Hemisphere => {
-                self.program.set_vec2("NearFar", self.near_far);
-                let (start, unclipped, clipped) = ranges[0];
-                mesh.mesh
-                    .draw_indexed(&self.stream, start, unclipped + clipped);
+    }
+
+    /// The paper's projection: one draw onto the unit disk (`glsl/hemiproj.vert`).
+    fn draw_hemisphere(&self, mesh: &SceneMesh, draw: ViewDraw) {
+        self.program.set_vec2("NearFar", self.near_far);
+        let count = draw.unclipped + draw.clipped;
+        mesh.mesh.draw_indexed(&self.stream, draw.first, count);
+    }
+
+    /// The hemicube: five 90° perspective views of `view` side by side, `r` pixels each, each
+    /// in its guard band, the side faces only above the horizon (`Tuning::half_side_faces`).
+    fn draw_hemicube(
+        &self,
+        ctx: &GlContext,
+        mesh: &SceneMesh,
+        draws: &[ViewDraw; 5],
+        view: Mat4,
+        r: i32,
+    ) {
+        let gl = &ctx.gl;
+        let [n, f] = self.near_far;
+        let g = self.guard;
+        let widen = Mat4::from_scale(Vec3::new(1.0 / g as f32, 1.0 / g as f32, 1.0));
+        let projection = widen * Mat4::perspective_rh_gl(std::f32::consts::FRAC_PI_2, 1.0, n, f);
+        let margin = (g - 1) / 2 * r;
+        unsafe { gl.enable(glow::SCISSOR_TEST) };
+        for (k, rotation) in face_rotations().iter().enumerate() {
+            let x = k as i32 * r;
+            unsafe {
+                gl.viewport(x - margin, -margin, g * r, g * r);
+                let [sx, sy, sw, sh] = if self.tuning.half_side_faces {
+                    front_half(k, r)
+                } else {
+                    [0, 0, r, r]
+                };
+                gl.scissor(x + sx, sy, sw, sh);
             }
-            VisibilityKind::Hemicube => {
-                let [n, f] = self.near_far;
-                let g = self.guard;
-                let widen = Mat4::from_scale(Vec3::new(1.0 / g as f32, 1.0 / g as f32, 1.0));
-                let projection =
-                    widen * Mat4::perspective_rh_gl(std::f32::consts::FRAC_PI_2, 1.0, n, f);
-                let margin = (g - 1) / 2 * r;
-                unsafe { gl.enable(glow::SCISSOR_TEST) };
-                for (k, rotation) in rotations.iter().enumerate() {
-                    let x = k as i32 * r;
-                    unsafe {
-                        gl.viewport(x - margin, -margin, g * r, g * r);
-                        let [sx, sy, sw, sh] = if tuning.half_side_faces {
-                            front_half(k, r)
-                        } else {
-                            [0, 0, r, r]
-                        };
-                        gl.scissor(x + sx, sy, sw, sh);
-                    }
-                    let m = projection * Mat4::from_mat3(*rotation) * view;
-                    self.program
-                        .set_mat4("FaceViewProjection", &m.to_cols_array());
-                    // Two draws (`split_unclipped`): llvmpipe takes its fast path for a draw
-                    // with nothing to clip.
-                    let (start, unclipped, clipped) = ranges[k];
-                    for (first, count) in [(start, unclipped), (start + unclipped, clipped)] {
-                        if count > 0 {
-                            mesh.mesh.draw_indexed(&self.stream, first, count);
-                        }
-                    }
+            let m = projection * Mat4::from_mat3(*rotation) * view;
+            self.program
+                .set_mat4("FaceViewProjection", &m.to_cols_array());
+            // Two draws (`split_unclipped`): llvmpipe takes its fast path for a draw with
+            // nothing to clip.
+            let d = draws[k];
+            for (first, count) in [(d.first, d.unclipped), (d.first + d.unclipped, d.clipped)] {
+                if count > 0 {
+                    mesh.mesh.draw_indexed(&self.stream, first, count);
                 }
-                unsafe { gl.disable(glow::SCISSOR_TEST) };
             }
         }
+        unsafe { gl.disable(glow::SCISSOR_TEST) };
+    }
+
+    /// Leave the FBO, and (`Tuning::flush_visibility`) have the pass rasterised now:
+    /// llvmpipe queues it and returns, so the CPU picks the receivers meanwhile.
+    fn finish(&self, ctx: &GlContext) -> Result<(), GlError> {
+        let gl = &ctx.gl;
         unsafe {
             gl.disable(glow::DEPTH_TEST);
             gl.bind_framebuffer(glow::FRAMEBUFFER, None);
-            // Rasterise now (`flush_visibility`): llvmpipe queues the pass and returns, so the
-            // CPU picks the receivers meanwhile.
-            if tuning.flush_visibility {
+            if self.tuning.flush_visibility {
                 gl.flush();
             }
         }
-        ctx.check(NAME)
+        ctx.check(VISIBILITY)
+    }
+
+    /// How many times a view left a polygon out as falling between the pixel centres, over all
+    /// passes (`Tuning::cull_between_samples`).
+    pub fn missed(&self) -> u64 {
+        self.culling.missed
     }
 
     /// The item buffer of slot `slot` (`run_in_slot`).

@@ -5,10 +5,13 @@
 //! of a plate shares, so it answers the same for every receiver; on llvmpipe a few large
 //! triangles cost much less to set up and bin than hundreds of small ones.
 
+use crate::patches::PatchLayout;
 use crate::scene::Scene;
+use crate::solver::mesh::push_polygon;
 use glam::Vec3;
 use std::collections::HashMap;
 
+/// The plates of a scene: which polygon stands for each, and the merged outlines drawn.
 #[derive(Clone, Debug, Default)]
 pub struct Plates {
     /// Per polygon: the first polygon of its plate (itself if it is alone).
@@ -24,6 +27,20 @@ impl Plates {
             representative: (0..polygons).collect(),
             outlines: HashMap::new(),
         }
+    }
+
+    /// The vertex data of the hemicube's visibility pass (as `mesh::vertex_data` gives the
+    /// scene's): each merged plate as one polygon under its representative's ID, the other
+    /// polygons as they are.
+    pub fn vertex_data(&self, scene: &Scene, layout: &PatchLayout) -> Vec<f32> {
+        let mut data = Vec::new();
+        for (i, p) in scene.polygons.iter().enumerate() {
+            if self.representative[i] == i {
+                let outline = self.outlines.get(&i).unwrap_or(&p.vertices);
+                push_polygon(&mut data, scene, layout, i, outline);
+            }
+        }
+        data
     }
 
     /// Merge the coplanar neighbours among `candidates` (polygons that may be merged).

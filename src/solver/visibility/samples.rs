@@ -28,6 +28,7 @@ pub struct Outlines {
 }
 
 impl Outlines {
+    /// Every polygon's outline: its plate's for a representative, else its own corners.
     pub fn new(scene: &Scene, plates: &Plates) -> Outlines {
         let mut outlines = Outlines {
             start: Vec::with_capacity(scene.polygons.len() + 1),
@@ -42,6 +43,7 @@ impl Outlines {
         outlines
     }
 
+    /// Polygon `p`'s outline.
     pub fn of(&self, p: usize) -> &[Vec3] {
         &self.points[self.start[p]..self.start[p + 1]]
     }

@@ -16,6 +16,7 @@ use std::collections::HashMap;
 /// Most distinct face planes an object may have to be tested as a convex solid.
 pub const MAX_SOLID_PLANES: usize = 4096;
 
+/// The convex solids of a scene (see the module's note), and which polygons belong to each.
 #[derive(Clone, Debug, Default)]
 pub struct Solids {
     /// Per solid: the planes bounding it (its faces' and its cap's), normals outwards.
@@ -130,6 +131,7 @@ impl Solids {
         self.planes[s].iter().any(|pl| pl.distance(point) > margin)
     }
 
+    /// How many solids were found.
     pub fn count(&self) -> usize {
         self.planes.len()
     }

@@ -1,0 +1,274 @@
+//! What each view of the visibility pass may leave out, for llvmpipe's sake (none of it is in the
+//! paper, which draws the whole scene into each view). Every test here is switched by
+//! [`Tuning`] and changes nothing the reconstruction pass reads, or only depth ties (each switch
+//! says which): polygons behind the shooter or outside a hemicube face (`cull_views`), plates
+//! drawn once under their representative (`plates`), the far faces of convex solids
+//! (`cull_solids`), polygons falling between the pixel centres (`cull_between_samples`), and the
+//! polygons wholly inside the guard band drawn first, apart (`split_unclipped`).
+//!
+//! [`Culling::asked`] says whether any of it runs; without it the pass draws
+//! [`DrawList::whole`], the scene's triangles as they are.
+
+use super::plates::Plates;
+use super::samples::{self, Outlines};
+use super::solids::Solids;
+use super::{face_rotations, Shooter, Tuning, VisibilityKind};
+use crate::geometry::{mean, sphere_around, Plane};
+use crate::scene::Scene;
+use crate::solver::mesh::SceneMesh;
+use glam::{Mat3, Mat4, Vec3};
+
+/// One view's part of a [`DrawList`]: from index `first`, `unclipped` indices of triangles
+/// wholly inside the guarded frustum (llvmpipe's fast path), then `clipped` of the others.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ViewDraw {
+    /// The view's first index in [`DrawList::indices`].
+    pub first: usize,
+    /// How many indices, from `first`, need no clipping.
+    pub unclipped: usize,
+    /// How many indices follow those, which may need clipping.
+    pub clipped: usize,
+}
+
+/// The triangles (vertex indices of the [`SceneMesh`]) each view of one shot draws: views one
+/// after another in `indices`, each view's part in `views` (the hemisphere uses the first).
+pub struct DrawList<'a> {
+    /// The triangles' corners.
+    pub indices: &'a [u32],
+    /// Where each view's triangles are in `indices`.
+    pub views: [ViewDraw; 5],
+}
+
+impl<'a> DrawList<'a> {
+    /// Every view draws all of `triangles` (the scene's, in its order), as the paper does.
+    pub fn whole(triangles: &'a [u32]) -> Self {
+        let all = ViewDraw {
+            first: 0,
+            unclipped: 0,
+            clipped: triangles.len(),
+        };
+        DrawList {
+            indices: triangles,
+            views: [all; 5],
+        }
+    }
+}
+
+/// The culling of one visibility pass: what it knows of the scene, and its buffers (reused from
+/// shot to shot).
+pub struct Culling {
+    kind: VisibilityKind,
+    tuning: Tuning,
+    /// The near plane's distance (the pass's `near_far[0]`).
+    near: f32,
+    /// The hemicube faces' guard band (`VisibilityPass`'s `guard`, 1 on the hemisphere).
+    guard: i32,
+    /// Each polygon's bounding sphere (centre, radius); a plate's around the whole plate.
+    spheres: Vec<(Vec3, f32)>,
+    /// Each polygon's plane.
+    planes: Vec<Plane>,
+    /// The scene's convex solids, whose faces turned away from the shooter are left out (see
+    /// `solids`: the item buffer stays the same).
+    pub(super) solids: Solids,
+    /// Each drawn polygon's corners, for `Tuning::cull_between_samples`.
+    outlines: Outlines,
+    /// Per solid, whether the current shooter is clear of it.
+    outside: Vec<bool>,
+    /// The polygons in front of the shooter: (polygon, sphere centre in eye space, radius).
+    in_front: Vec<(usize, Vec3, f32)>,
+    /// The triangles each view draws, views one after another, each view's unclipped polygons
+    /// first.
+    indices: Vec<u32>,
+    /// One view's polygons that may need clipping, gathered to follow its others.
+    clipped: Vec<u32>,
+    /// How many times a view left a polygon out as falling between the pixel centres, over all
+    /// shots (`Tuning::cull_between_samples`).
+    pub missed: u64,
+}
+
+impl Culling {
+    /// Whether `tuning` asks a pass of `kind` to cull (or split) at all; if not, every view
+    /// draws [`DrawList::whole`].
+    pub fn asked(tuning: &Tuning, kind: VisibilityKind) -> bool {
+        let hemicube = kind == VisibilityKind::Hemicube;
+        tuning.cull_views
+            || hemicube
+                && (tuning.cull_solids || tuning.cull_between_samples || tuning.split_unclipped)
+    }
+
+    /// The culling of `scene`'s polygons, every polygon alone (see [`Culling::use_plates`]), for
+    /// views with near plane `near` and guard band `guard`.
+    pub fn new(scene: &Scene, kind: VisibilityKind, tuning: Tuning, near: f32, guard: i32) -> Self {
+        Culling {
+            kind,
+            tuning,
+            near,
+            guard,
+            spheres: scene.polygons.iter().map(|p| p.bounding_sphere()).collect(),
+            planes: scene.polygons.iter().map(|p| p.plane()).collect(),
+            solids: Solids::find(scene),
+            outlines: Outlines::new(scene, &Plates::none(scene.polygons.len())),
+            outside: Vec::new(),
+            in_front: Vec::new(),
+            indices: Vec::new(),
+            clipped: Vec::new(),
+            missed: 0,
+        }
+    }
+
+    /// Cull by `plates` from now on: each plate's sphere and outline stand for its polygons.
+    pub fn use_plates(&mut self, scene: &Scene, plates: &Plates) {
+        for (&p, outline) in &plates.outlines {
+            self.spheres[p] = sphere_around(mean(outline), outline);
+        }
+        self.outlines = Outlines::new(scene, plates);
+    }
+
+    /// The triangles of `mesh` each view draws for `shooter` (whose view matrix is `view`), at
+    /// this shot's resolution `res` (per face), with polygons shown as `plates` shows them.
+    pub fn draw_list(
+        &mut self,
+        mesh: &SceneMesh,
+        shooter: &Shooter,
+        view: Mat4,
+        plates: &Plates,
+        res: i32,
+    ) -> DrawList<'_> {
+        self.find_in_front(shooter, view, plates);
+        let views = match self.kind {
+            VisibilityKind::Hemisphere => 1,
+            VisibilityKind::Hemicube => 5,
+        };
+        let mut draws = [ViewDraw::default(); 5];
+        self.indices.clear();
+        for (rotation, draw) in face_rotations().iter().zip(&mut draws).take(views) {
+            *draw = self.add_view(mesh, *rotation, view, res);
+        }
+        DrawList {
+            indices: &self.indices,
+            views: draws,
+        }
+    }
+
+    /// Append to `indices` the triangles of the view turned by `rotation` (a hemicube face;
+    /// the hemisphere's one view is the front face's): the polygons of `in_front` wholly inside
+    /// the guarded frustum and beyond the near plane (no vertex to clip: llvmpipe's fast path),
+    /// then the others; without `split_unclipped`, all of them as "others", in the scene's order.
+    fn add_view(&mut self, mesh: &SceneMesh, rotation: Mat3, view: Mat4, res: i32) -> ViewDraw {
+        let first = self.indices.len();
+        self.clipped.clear();
+        let face = Mat4::from_mat3(rotation) * view;
+        for i in 0..self.in_front.len() {
+            let (p, c, radius) = self.in_front[i];
+            let inside = match self.kind {
+                VisibilityKind::Hemisphere => false,
+                VisibilityKind::Hemicube => {
+                    match self.place_on_face(p, rotation * c, radius, &face, res) {
+                        Some(inside) => inside,
+                        None => continue,
+                    }
+                }
+            };
+            let (start, count) = mesh.ranges[p];
+            let corners = &mesh.triangles[start as usize..(start + count) as usize];
+            if inside {
+                self.indices.extend_from_slice(corners);
+            } else {
+                self.clipped.extend_from_slice(corners);
+            }
+        }
+        let unclipped = self.indices.len() - first;
+        self.indices.extend_from_slice(&self.clipped);
+        ViewDraw {
+            first,
+            unclipped,
+            clipped: self.indices.len() - first - unclipped,
+        }
+    }
+
+    /// Where polygon `p` goes in a hemicube face (`face`: its view matrix), its sphere's centre
+    /// at `f` in face space: `None` left out (outside the face, or between the pixel centres at
+    /// `res` pixels per side), `Some(true)` wholly inside the guarded frustum, `Some(false)` a
+    /// polygon that may need clipping.
+    fn place_on_face(
+        &mut self,
+        p: usize,
+        f: Vec3,
+        radius: f32,
+        face: &Mat4,
+        res: i32,
+    ) -> Option<bool> {
+        let tuning = &self.tuning;
+        let near = self.near;
+        // Outside one of the face's four 45° side planes (unit normals (±1, 0, -1)/√2 and
+        // (0, ±1, -1)/√2 in face space).
+        let reach = radius * std::f32::consts::SQRT_2;
+        if tuning.cull_views && (-f.z - f.x.abs() < -reach || -f.z - f.y.abs() < -reach) {
+            return None;
+        }
+        // Pixels across per unit of tangent, to tell which polygons project small enough to
+        // fall between the pixel centres (`samples`).
+        let pixels_per_tangent = res as f32 / 2.0;
+        let depth = -f.z - radius;
+        if tuning.cull_between_samples
+            && depth > 2.0 * near
+            && 2.0 * radius / depth * pixels_per_tangent < samples::MAX_EXTENT
+            && samples::misses_every_centre(self.outlines.of(p), face, res as f32, 2.0 * near)
+        {
+            self.missed += 1;
+            return None;
+        }
+        // Inside the guarded side planes (normals (±1, 0, -g)/√(1 + g²), ...).
+        let g = self.guard as f32;
+        let side = (1.0 + g * g).sqrt();
+        Some(
+            tuning.split_unclipped
+                && -f.z - radius > 2.0 * near
+                && -g * f.z - f.x.abs() > radius * side
+                && -g * f.z - f.y.abs() > radius * side,
+        )
+    }
+
+    /// `in_front`: the plates' representatives that any view may need, with their spheres'
+    /// centres in the shooter's eye space (once for all the views). Left out: what lies wholly
+    /// behind the shooter's plane (nothing it could hide is looked up), the shooter's own plate,
+    /// and the faces of solids turned away from a shooter outside them.
+    fn find_in_front(&mut self, shooter: &Shooter, view: Mat4, plates: &Plates) {
+        let s = shooter.position;
+        let solids = &self.solids;
+        self.outside.clear();
+        // Clear of the near plane too: geometry nearer than it is clipped away, and a clipped
+        // near face would show the far face behind it. On a face axis, depth ≥ distance / √3.
+        let margin = self.near * 3f32.sqrt();
+        let tuning = self.tuning;
+        self.outside.extend(
+            // Only where projected straight edges are exact (the hemicube): the hemispherical
+            // projection drawn with straight edges lets a far face peek past the near ones.
+            (0..solids.count()).map(|k| {
+                tuning.cull_solids
+                    && self.kind == VisibilityKind::Hemicube
+                    && solids.clear_of(k, s, margin)
+            }),
+        );
+        self.in_front.clear();
+        // The shooter's plate lies in the shooter's plane, which the near plane clips away (and
+        // the shaders put it beyond the far plane).
+        let shooter_plate = plates.representative[shooter.polygon];
+        for (p, &(centre, radius)) in self.spheres.iter().enumerate() {
+            if plates.representative[p] != p {
+                continue;
+            }
+            let c = view.transform_point3(centre);
+            if tuning.cull_views && (p == shooter_plate || c.z >= radius) {
+                continue;
+            }
+            // A solid's face turned away from a shooter outside the solid hides nothing.
+            if let Some(k) = solids.solid_of[p] {
+                if self.outside[k] && self.planes[p].distance(s) < -solids.slack {
+                    continue;
+                }
+            }
+            self.in_front.push((p, c, radius));
+        }
+    }
+}
