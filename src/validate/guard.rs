@@ -44,7 +44,7 @@ pub fn reference(
 }
 
 /// Whether two configurations shoot from the same shooters (whole polygons or cells of the same
-/// side, cut alike), so that one [`reference`] serves both.
+/// side, cut alike), so that one [`reference()`] serves both.
 pub fn same_shooters(a: &SolveOptions, b: &SolveOptions) -> bool {
     // Whole polygons are never cut: the cut rule matters only where cells shoot.
     let key = |o: &SolveOptions| {
