@@ -132,6 +132,15 @@ pub struct SolveArgs {
     /// 0: every shot). Mode default: paper 0, accurate 0.003.
     #[arg(long, value_parser = values::share, allow_hyphen_values = true)]
     pub cut_above: Option<f32>,
+    /// Beyond the paper, for fewer passes: shots below --cut-above shoot from cells of this side
+    /// in patches (0 or no wider than the cell: the same cells as every shot; at most 16384).
+    /// Mode default: paper 0, accurate 16.
+    #[arg(
+        long,
+        value_parser = value_parser!(u32).range(0..=values::MAX_CELL as i64),
+        allow_hyphen_values = true,
+    )]
+    pub coarse_cell: Option<u32>,
     /// Make the material NAME emit light: emitted radiance R,G,B, as `Ke` in the MTL file (each 0
     /// to 1e15; 0,0,0 turns an emitter off). Repeatable.
     #[arg(long, value_name = "NAME=R,G,B", value_parser = values::emission, allow_hyphen_values = true)]
@@ -225,6 +234,7 @@ impl SolveArgs {
             shooters_per_pass,
             conserve: self.conserve.unwrap_or(base.conserve),
             cut_above: self.cut_above.unwrap_or(base.cut_above),
+            coarse_cell: self.coarse_cell.unwrap_or(base.coarse_cell),
         }
     }
 

@@ -103,6 +103,11 @@ pub struct SolveOptions {
     /// emitted power cut their cells where a touching polygon's plane crosses them
     /// (`shooters::cuts_cells`). 0: every shot.
     pub cut_above: f32,
+    /// Beyond the paper, for fewer passes: the side, in patches, of the cells of shots that
+    /// carry less than `cut_above` (0, or no larger than the cell side: the same cells as every
+    /// shot). Most of a large scene's passes are late shots of its largest polygons, each a
+    /// fraction of a percent of the light; wider cells shoot them in a fraction of the passes.
+    pub coarse_cell: u32,
 }
 
 impl SolveOptions {
@@ -128,6 +133,7 @@ impl SolveOptions {
             shooters_per_pass: 1,
             conserve: false,
             cut_above: 0.0,
+            coarse_cell: 0,
         }
     }
 
@@ -140,7 +146,8 @@ impl SolveOptions {
     ///   (`conserve`);
     /// - fewer and cheaper shots: overshooting, the item buffer by shot (256² for the shots
     ///   carrying over [`SMALL_SHOT`], falling with the cube root of the share from 128² to 16²)
-    ///   and turned shot by shot, [`MAX_SHOOTERS_PER_PASS`] shooters per reconstruction pass;
+    ///   and turned shot by shot, [`MAX_SHOOTERS_PER_PASS`] shooters per reconstruction pass,
+    ///   and the smaller shots from cells of [`COARSE_CELL`] patches (cut down to 4×4 at contacts);
     /// - the stopping rule at [`DEFAULT_THRESHOLD`], where every region of the Cornell box lands
     ///   within 3 % of a path-traced reference (`tests/path_traced.rs`).
     pub fn accurate() -> Self {
@@ -162,6 +169,7 @@ impl SolveOptions {
             shooters_per_pass: MAX_SHOOTERS_PER_PASS,
             conserve: true,
             cut_above: CUT_ABOVE,
+            coarse_cell: COARSE_CELL,
             ..Self::paper()
         }
     }
@@ -178,6 +186,7 @@ impl SolveOptions {
             rotate_item_buffer: false,
             shooters_per_pass: 1,
             cut_above: 0.0,
+            coarse_cell: 0,
             ..Self::accurate()
         }
     }
@@ -273,6 +282,10 @@ pub const DEFAULT_THRESHOLD: f32 = 0.003;
 /// path-traced reference, and on the simple room a third of the passes of cutting every shot
 /// are left (1,399 against 4,146).
 pub const CUT_ABOVE: f32 = 0.003;
+
+/// The cell side of shots below [`CUT_ABOVE`] (`SolveOptions::coarse_cell`): 16 patches, four
+/// times the default cell's side, a sixteenth of its cells.
+pub const COARSE_CELL: u32 = 16;
 
 /// The configurations `bench guard` compares: the paper-faithful one, each speed option alone
 /// on it, whole polygons with all of them, and the default.

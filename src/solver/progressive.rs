@@ -373,7 +373,7 @@ impl<'a, B: Backend> Solver<'a, B> {
         let own = self.backend.layout();
         let share = self.ledger.totals().magnitude(p) / self.ledger.emitted_power();
         let emitter = self.scene.material(&self.scene.polygons[p]).is_emitter();
-        let cell = shooters::cell_side(&self.options, emitter);
+        let cells = shooters::cells_of_shot(&self.options, emitter, share);
         let mut shooters = shooters::shooters_of(
             self.scene,
             own,
@@ -382,8 +382,7 @@ impl<'a, B: Backend> Solver<'a, B> {
             self.ledger.patch_areas(),
             self.ledger.totals(),
             p,
-            cell,
-            shooters::cuts_cells(&self.options, share),
+            cells,
         );
         let remainder = self
             .overshoot
@@ -405,7 +404,7 @@ impl<'a, B: Backend> Solver<'a, B> {
         // A part with nothing to shoot (and no overshoot to add) costs a pass for nothing. A
         // whole polygon stays (Find_Max_Energy never picks one with nothing; callers that ask
         // for a given polygon's shooter, as the item-buffer tests do, get it).
-        if cell != 0 {
+        if cells.0 != 0 {
             shooters.retain(|s| s.energy != glam::Vec3::ZERO);
         }
         shooters

@@ -42,6 +42,29 @@ pub fn cuts_cells(options: &SolveOptions, share: f64) -> bool {
     share.abs() >= options.cut_above as f64
 }
 
+/// How a shot of `share` of the emitted power divides its polygon: the side of its cells, and
+/// the side down to which a cell that a touching polygon's plane crosses is cut (`None`: not
+/// cut). The paper's accounting: cells of [`cell_side`], every one cut down to single patches.
+/// Beyond it, a shot below `cut_above` ([`cuts_cells`]) shoots from cells of `coarse_cell`
+/// where that is wider: the late, small shots of large polygons in a fraction of the passes.
+/// Those above [`UNCUT_BELOW`] × `cut_above` are cut down to the ordinary cell where a plane
+/// crosses them (near contacts they shoot as the ordinary cells would); the smallest are not
+/// cut, as a shot's error at a contact grows with its power.
+pub fn cells_of_shot(options: &SolveOptions, emitter: bool, share: f64) -> (u32, Option<u32>) {
+    let cell = cell_side(options, emitter);
+    if cuts_cells(options, share) {
+        (cell, Some(1))
+    } else if cell != 0 && options.coarse_cell > cell {
+        let cut = share.abs() >= UNCUT_BELOW * options.cut_above as f64;
+        (options.coarse_cell, cut.then_some(cell))
+    } else {
+        (cell, None)
+    }
+}
+
+/// The share of `cut_above` below which coarse cells are not cut at all ([`cells_of_shot`]).
+pub const UNCUT_BELOW: f64 = 0.1;
+
 /// The shooters that carry polygon `p`'s unshot energy: the whole polygon from its centroid
 /// (the paper, `cell` 0), or one shooter per cell of `cell`² patches, each at the mean position
 /// of its patches with the cell's own unshot energy.
@@ -54,8 +77,7 @@ pub fn shooters_of(
     patch_area: &[f64],
     totals: &EnergyTotals,
     p: usize,
-    cell: u32,
-    cut: bool,
+    (cell, finest): (u32, Option<u32>),
 ) -> Vec<Shooter> {
     let polygon = &scene.polygons[p];
     let lm = &layout.lightmaps[p];
@@ -94,7 +116,7 @@ pub fn shooters_of(
     for y0 in (0..lm.h).step_by(cell as usize) {
         for x0 in (0..lm.w).step_by(cell as usize) {
             let rect = [x0, y0, (x0 + cell).min(lm.w), (y0 + cell).min(lm.h)];
-            for part in cell_parts(scene, p, lm, rect, &texel, cut) {
+            for part in cell_parts(scene, p, lm, rect, &texel, finest) {
                 let [x0, y0, x1, y1] = part.rect;
                 let Some((position, energy)) = part_energy(lm, &part, &texel, patch_area) else {
                     continue;
@@ -144,8 +166,9 @@ struct Part {
 /// point. Where the plane of a nearby polygon cuts through the cell (a block standing on the
 /// floor), the receivers on that polygon see only the part of the cell in front of them, yet the
 /// point may lie behind them (no light at all: the Cornell box's short block front stayed black)
-/// or in front (light through the block's edge): such a cell is cut into quarters, down to single
-/// patches, until no such plane crosses a part (when `cut`: see [`cuts_cells`]). Only polygons of at least a quarter of the part's
+/// or in front (light through the block's edge): such a cell is cut into quarters, down to parts
+/// of side `finest` (single patches in the paper's accounting; `None`: not cut), until no such
+/// plane crosses a part (see [`cells_of_shot`]). Only polygons of at least a quarter of the part's
 /// area count (`crossed`): a book beside a wall's cell sees little of it either way, and cutting
 /// for every small face made the simple room's walls shoot from a hundred parts each.
 ///
@@ -159,7 +182,7 @@ fn cell_parts(
     lm: &Lightmap,
     rect: [u32; 4],
     texel: &impl Fn(u32, u32) -> Option<[f32; 3]>,
-    cut: bool,
+    finest: Option<u32>,
 ) -> Vec<Part> {
     let mut parts = Vec::new();
     let mut rects = vec![rect];
@@ -181,8 +204,8 @@ fn cell_parts(
         if !lit && negative.is_empty() {
             continue;
         }
-        let single = x1 - x0 == 1 && y1 - y0 == 1;
-        if cut && !single && crossed(scene, p, lm, rect) {
+        let cuttable = finest.is_some_and(|side| x1 - x0 > side || y1 - y0 > side);
+        if cuttable && crossed(scene, p, lm, rect) {
             let (xm, ym) = ((x0 + x1).div_ceil(2), (y0 + y1).div_ceil(2));
             for [a, b, c, d] in [
                 [x0, y0, xm, ym],

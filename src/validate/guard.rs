@@ -53,6 +53,12 @@ pub fn same_shooters(a: &SolveOptions, b: &SolveOptions) -> bool {
             o.shooter_cell,
             o.emitter_cell,
             if cells { o.cut_above } else { 0.0 },
+            // Coarse cells are used only by shots that are not cut.
+            if cells && o.cut_above > 0.0 {
+                o.coarse_cell
+            } else {
+                0
+            },
         )
     };
     key(a) == key(b)
