@@ -94,7 +94,7 @@ fn furnace_and_energy_balance() {
     // docs/accuracy.md, the closed-form table's accurate row "today": furnace and balance.
     quoted(
         &checks,
-        &[("furnace", "0.013"), ("closed cube, one emitter", "0.005")],
+        &[("furnace", "0.700"), ("closed cube, one emitter", "0.003")],
     );
 }
 
@@ -103,8 +103,8 @@ fn progressive_matches_a_direct_solve() {
     let ctx = context();
     let checks = [validate::direct_solve(&ctx).unwrap()];
     require(&checks);
-    // docs/accuracy.md: "0.065 % worst patch".
-    quoted(&checks, &[("progressive vs direct solve", "0.065")]);
+    // docs/accuracy.md: "0.366 % worst patch".
+    quoted(&checks, &[("progressive vs direct solve", "0.366")]);
 }
 
 #[test]
@@ -112,14 +112,14 @@ fn cornell_converges_under_refinement() {
     let ctx = context();
     let checks = validate::refinement(&ctx).unwrap();
     require(&checks);
-    // docs/accuracy.md: "within 0.023–0.270 %", the walls' smallest and largest error.
+    // docs/accuracy.md: "within 0.053–0.241 %", the walls' smallest and largest error.
     let errors = checks.iter().map(|c| 100.0 * c.error);
     let (low, high) = (
         errors.clone().fold(f64::INFINITY, f64::min),
         errors.fold(0.0, f64::max),
     );
-    assert_quoted("refinement, smallest error %", low, "0.023");
-    assert_quoted("refinement, largest error %", high, "0.270");
+    assert_quoted("refinement, smallest error %", low, "0.053");
+    assert_quoted("refinement, largest error %", high, "0.241");
 }
 
 #[test]
