@@ -114,7 +114,7 @@ pub enum SolveError {
     #[error(
         "energy created at shot {shot}: the unshot power is now {unshot:.3}x the emitted power (or \
          the loaded one) ({shooter} shot {shot_power:.4e} and its receivers received \
-         {received:.4e}, {excess:.3}x what it carried in the fullest channel). Receivers that \
+         {received:.4e}, {excess:.3}x what it carried in its worst channel). Receivers that \
          gained most: {receivers}. {cause}"
     )]
     EnergyCreated {
