@@ -170,7 +170,8 @@ impl<'a, B: Backend> Solver<'a, B> {
         self.run_passes(&own, true)?;
         let mut totals_before = self.read_back()?;
         let mut balance =
-            ShotBalance::measure(self.scene, &own, &totals_before, self.ledger.totals());
+            ShotBalance::measure(self.scene, &own, &totals_before, self.ledger.totals())
+                .with_floor(self.noise_floor());
         // Beyond the paper: a shot whose receivers got more than it carried is scaled back.
         if self.options.conserve && balance.excess() > balance::CORRECT_ABOVE {
             let correction = balance::correction(&own, &balance);
@@ -183,7 +184,8 @@ impl<'a, B: Backend> Solver<'a, B> {
                     totals_before.push((p, old));
                 }
             }
-            balance = ShotBalance::measure(self.scene, &own, &totals_before, self.ledger.totals());
+            balance = ShotBalance::measure(self.scene, &own, &totals_before, self.ledger.totals())
+                .with_floor(self.noise_floor());
             self.ledger.count_correction();
         }
         let record =
@@ -191,6 +193,12 @@ impl<'a, B: Backend> Solver<'a, B> {
                 .record_shot(polygon, polygons.len() as u32, before, shot_power, &balance);
         self.check_balance(&record, &balance, &totals_before)?;
         Ok(record)
+    }
+
+    /// The float noise of a shot's books, per channel, in the ledger's energy units (Σ L·A): a
+    /// share of the emitted energy ([`balance::EMITTED_NOISE`]).
+    fn noise_floor(&self) -> f64 {
+        balance::EMITTED_NOISE * self.ledger.emitted_power() / std::f64::consts::PI
     }
 
     /// The passes of one shot: for each `shooters_per_pass` of `shooters`, a visibility pass per
