@@ -66,8 +66,8 @@ fn no_speed_option_moves_the_simple_room_away_from_the_exhaustive_solution() {
     let quoted = [
         ("paper-faithful", "1.77", 1334),
         ("overshoot", "1.52", 878),
-        ("item buffer by shot", "1.57", 1377),
-        ("item buffer turned", "1.73", 1348),
+        ("item buffer by shot", "1.57", 1378),
+        ("item buffer turned", "1.73", 1347),
         ("shooters per pass", "1.54", 1354),
         ("whole polygons", "1.34", 914),
     ];
