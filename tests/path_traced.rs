@@ -117,20 +117,21 @@ fn cornell_box_matches_a_path_traced_reference() {
         load("cornell").polygons.len() - 1,
         "every polygon but the light"
     );
-    for &(region, ..) in &table {
-        let rows: Vec<_> = regions.iter().filter(|r| r.0 == region).collect();
-        let min = rows.iter().map(|r| r.1).fold(f64::INFINITY, f64::min);
-        let max = rows.iter().map(|r| r.1).fold(f64::NEG_INFINITY, f64::max);
-        let most_noise = rows.iter().map(|r| r.2).fold(0.0, f64::max);
-        // Printed first, all of them: what to quote when the solver changes.
-        println!("{region}: {min:+.2} … {max:+.2} % (± {most_noise:.2} %)");
-    }
-    for (region, low, high, noise) in table {
-        let rows: Vec<_> = regions.iter().filter(|r| r.0 == region).collect();
-        assert!(!rows.is_empty(), "no polygon of {region}");
-        let min = rows.iter().map(|r| r.1).fold(f64::INFINITY, f64::min);
-        let max = rows.iter().map(|r| r.1).fold(f64::NEG_INFINITY, f64::max);
-        let most_noise = rows.iter().map(|r| r.2).fold(0.0, f64::max);
+    // Each region's smallest and largest difference and largest noise, all printed before any
+    // is asserted: what to quote when the solver changes.
+    let measured: Vec<_> = table
+        .iter()
+        .map(|&(region, ..)| {
+            let rows: Vec<_> = regions.iter().filter(|r| r.0 == region).collect();
+            assert!(!rows.is_empty(), "no polygon of {region}");
+            let min = rows.iter().map(|r| r.1).fold(f64::INFINITY, f64::min);
+            let max = rows.iter().map(|r| r.1).fold(f64::NEG_INFINITY, f64::max);
+            let most_noise = rows.iter().map(|r| r.2).fold(0.0, f64::max);
+            println!("{region}: {min:+.2} … {max:+.2} % (± {most_noise:.2} %)");
+            (min, max, most_noise)
+        })
+        .collect();
+    for ((region, low, high, noise), (min, max, most_noise)) in table.iter().zip(measured) {
         assert_quoted(&format!("{region}: smallest difference %"), min, low);
         assert_quoted(&format!("{region}: largest difference %"), max, high);
         assert_quoted(&format!("{region}: reference ± %"), most_noise, noise);

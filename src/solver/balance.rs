@@ -23,19 +23,21 @@ pub struct ShotBalance {
     /// What reached the receivers (their gains over their reflectance), signed.
     pub received: DVec3,
     /// The float noise of the whole atlas's sums, per channel ([`EMITTED_NOISE`] of the emitted
-    /// energy; `with_floor`): a shot that carries next to nothing is judged within it.
+    /// energy): a shot that carries next to nothing is judged within it.
     pub floor: f64,
 }
 
 impl ShotBalance {
     /// The books of a shot of `shooters` (energies in the units of `EnergyTotals::energy`), from
     /// each changed polygon's totals `before` the shot and `after` it. A shooter's own total
-    /// fell by what it carried, so its gain is after − before + carried.
+    /// fell by what it carried, so its gain is after − before + carried. `floor`: the absolute
+    /// float noise per channel (see [`EMITTED_NOISE`]).
     pub fn measure(
         scene: &Scene,
         shooters: &[Shooter],
         before: &[(usize, [f64; 3])],
         after: &EnergyTotals,
+        floor: f64,
     ) -> ShotBalance {
         let mut carried = DVec3::ZERO;
         for s in shooters {
@@ -59,13 +61,8 @@ impl ShotBalance {
         ShotBalance {
             carried,
             received,
-            floor: 0.0,
+            floor,
         }
-    }
-
-    /// The same books, judged with an absolute noise `floor` per channel (see [`EMITTED_NOISE`]).
-    pub fn with_floor(self, floor: f64) -> Self {
-        ShotBalance { floor, ..self }
     }
 
     /// The largest ratio, over the channels that carried anything, of what was received to what
@@ -193,6 +190,10 @@ mod tests {
             floor: EMITTED_NOISE * 59.0,
         };
         assert!(tiny.excess() <= 1.0, "{}", tiny.excess());
-        assert!(full.with_floor(EMITTED_NOISE * 59.0).excess() > 1.009);
+        let floored = ShotBalance {
+            floor: EMITTED_NOISE * 59.0,
+            ..full
+        };
+        assert!(floored.excess() > 1.009);
     }
 }

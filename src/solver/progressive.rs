@@ -169,9 +169,7 @@ impl<'a, B: Backend> Solver<'a, B> {
             .collect();
         self.run_passes(&own, true)?;
         let mut totals_before = self.read_back()?;
-        let mut balance =
-            ShotBalance::measure(self.scene, &own, &totals_before, self.ledger.totals())
-                .with_floor(self.noise_floor());
+        let mut balance = self.balance_of(&own, &totals_before);
         // Beyond the paper: a shot whose receivers got more than it carried is scaled back.
         if self.options.conserve && balance.excess() > balance::CORRECT_ABOVE {
             let correction = balance::correction(&own, &balance);
@@ -184,8 +182,7 @@ impl<'a, B: Backend> Solver<'a, B> {
                     totals_before.push((p, old));
                 }
             }
-            balance = ShotBalance::measure(self.scene, &own, &totals_before, self.ledger.totals())
-                .with_floor(self.noise_floor());
+            balance = self.balance_of(&own, &totals_before);
             self.ledger.count_correction();
         }
         let record =
@@ -195,10 +192,12 @@ impl<'a, B: Backend> Solver<'a, B> {
         Ok(record)
     }
 
-    /// The float noise of a shot's books, per channel, in the ledger's energy units (Σ L·A): a
-    /// share of the emitted energy ([`balance::EMITTED_NOISE`]).
-    fn noise_floor(&self) -> f64 {
-        balance::EMITTED_NOISE * self.ledger.emitted_power() / std::f64::consts::PI
+    /// The books of a shot of `shooters` from the changed polygons' totals `before` it, judged
+    /// with the float noise of the atlas's sums: [`balance::EMITTED_NOISE`] of the emitted energy
+    /// per channel, in the ledger's energy units (Σ L·A).
+    fn balance_of(&self, shooters: &[Shooter], before: &[(usize, [f64; 3])]) -> ShotBalance {
+        let floor = balance::EMITTED_NOISE * self.ledger.emitted_power() / std::f64::consts::PI;
+        ShotBalance::measure(self.scene, shooters, before, self.ledger.totals(), floor)
     }
 
     /// The passes of one shot: for each `shooters_per_pass` of `shooters`, a visibility pass per
