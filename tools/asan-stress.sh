@@ -10,13 +10,18 @@
 #      double free in libglvnd's per-thread EGL state, docs/perf-log.md 2026-12-03);
 #   3. SOLVES solves on each backend (EGL and OSMesa), GPU and CPU solver, and `validate --quick`;
 #   4. the interactive viewer's window context under Xvfb (a screenshot run), VIEWER_RUNS times;
-#   5. the driver matrix, `radiosity check --drivers all`.
+#   5. the driver matrix, `radiosity check --drivers all`;
+#   6. without the sanitizer (an ordinary release build, whose timing is the users'), the test
+#      binaries whose tests draw in several threads at once, PARALLEL_RUNS times each: llvmpipe
+#      crashed when two threads' contexts drew at once (docs/perf-log.md, 2026-12-04), which the
+#      sanitized build's timing hid.
 # Every run must exit 0 and no log may hold a sanitizer report; the summary gives the runs, the
 # crashes (a signal, or a sanitizer or heap report), the other failures (a failed test, an
 # error exit) and the minutes. Exit status 0 only if all is clean.
 #
 # Environment: ROUNDS (2), JOBS (2), THREAD_ROUNDS (20), EXIT_RUNS (200), SOLVES (6),
-# VIEWER_RUNS (2), RUN_TIMEOUT (seconds one run may take, 1800: a hang fails), LOG_DIR (target/asan/stress-<date>). Needs `rustup toolchain install nightly`, Mesa's EGL and
+# VIEWER_RUNS (2), PARALLEL_RUNS (4), PARALLEL_TESTS (tuning concurrent_solves validation speed_guard),
+# RUN_TIMEOUT (seconds one run may take, 1800: a hang fails), LOG_DIR (target/asan/stress-<date>). Needs `rustup toolchain install nightly`, Mesa's EGL and
 # OSMesa drivers, and xvfb-run (the same packages as .ci/run).
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -28,6 +33,8 @@ EXIT_RUNS=${EXIT_RUNS:-200}
 RUN_TIMEOUT=${RUN_TIMEOUT:-1800}
 SOLVES=${SOLVES:-6}
 VIEWER_RUNS=${VIEWER_RUNS:-2}
+PARALLEL_RUNS=${PARALLEL_RUNS:-4}
+PARALLEL_TESTS=${PARALLEL_TESTS:-tuning concurrent_solves validation speed_guard}
 TRIPLE=x86_64-unknown-linux-gnu
 TARGET_DIR=target/asan
 LOG_DIR=${LOG_DIR:-$TARGET_DIR/stress-$(date +%Y%m%d-%H%M%S)}
@@ -148,6 +155,22 @@ done
 
 echo "== 5. the driver matrix"
 run "drivers" "$bin" check --drivers all --diff-dir "$scratch/diff" --json "$LOG_DIR/drivers.json"
+
+echo "== 6. without the sanitizer: the tests that draw in several threads, $PARALLEL_RUNS times each"
+plain=(env -u RUSTFLAGS -u RUSTDOCFLAGS cargo test --release --no-run)
+if ! "${plain[@]}" --message-format=json >"$LOG_DIR/plain-build.json" 2>"$LOG_DIR/plain-build.log"; then
+    tail -20 "$LOG_DIR/plain-build.log"
+    echo "the release build failed"
+    exit 1
+fi
+for name in $PARALLEL_TESTS; do
+    t=$(jq -r 'select(.profile.test == true and .target.name == "'"$name"'") | .executable // empty' \
+        "$LOG_DIR/plain-build.json" | head -1)
+    [ -x "$t" ] || { echo "no test binary $name"; exit 1; }
+    for i in $(seq "$PARALLEL_RUNS"); do
+        run "parallel-$name-$i" "$t"
+    done
+done
 
 minutes=$(( ($(date +%s) - started + 30) / 60 ))
 echo "== $runs runs, $crashes crashed, $failures failed otherwise, $minutes minutes (logs: $LOG_DIR)"

@@ -84,10 +84,29 @@ enum Backend {
     External(#[allow(dead_code)] Box<dyn std::any::Any>),
 }
 
+/// Held by every thread that has a context on one of Mesa's software rasterisers (or is making
+/// a context): llvmpipe of Mesa 22.3 (Debian 12), which all contexts of a process share, crashes
+/// when contexts of two threads draw at once (SIGSEGV inside `glCopyTexSubImage2D` and
+/// `glDrawArrays`, with the other thread in the same driver function; docs/perf-log.md,
+/// 2026-12-04). Reentrant, so one thread may hold several contexts; another thread's
+/// [`GlContext::headless`] waits until this one has dropped all of them. Contexts on a hardware
+/// driver let it go once they know their renderer.
+static SOFTWARE_RASTERISER: parking_lot::ReentrantMutex<()> =
+    parking_lot::const_reentrant_mutex(());
+
+/// Whether `renderer` (GL_RENDERER) is one of Mesa's software rasterisers, directly or under
+/// zink (`zink (llvmpipe (LLVM 15.0.6, 256 bits))`).
+pub fn is_software_rasteriser(renderer: &str) -> bool {
+    let r = renderer.to_ascii_lowercase();
+    r.contains("llvmpipe") || r.contains("softpipe") || r.contains("swrast")
+}
+
 /// A context's backend, destroyed in `drop` with no context current; then the thread's newest
-/// remaining context is made current again.
+/// remaining context is made current again. The software rasteriser's lock goes last (a field
+/// after `drop`'s body).
 struct Keep {
     backend: Option<Backend>,
+    _serial: Option<parking_lot::ReentrantMutexGuard<'static, ()>>,
 }
 
 impl Keep {
@@ -145,7 +164,9 @@ thread_local! {
 /// A current GL context. GL objects made with `gl` must be dropped before this value.
 ///
 /// Several may live in one thread (each call goes to the newest; use the objects of one only
-/// while it is the newest), and in several threads at once. A `GlContext` cannot move to
+/// while it is the newest), and in several threads, though on Mesa's software rasterisers one
+/// thread at a time: another thread's `headless` waits until this thread has dropped all of its
+/// contexts (see [`is_software_rasteriser`]; those drivers crash otherwise). A `GlContext` cannot move to
 /// another thread (it is neither `Send` nor `Sync`), so it is always dropped on the thread it
 /// is current on. Dropping one, in any order, tears it down with this context current (the
 /// glow handle removes its KHR_debug callback from this context, not another), destroys it
@@ -186,6 +207,8 @@ impl GlContext {
             BackendChoice::Osmesa => &[BackendKind::Osmesa],
         };
         let mut tried = Vec::new();
+        // Before the driver is known, every thread waits its turn (`finish` lets go on hardware).
+        let serial = SOFTWARE_RASTERISER.lock();
         for &kind in order {
             let made = match kind {
                 BackendKind::Egl => egl::create().map(|(k, gl)| (Backend::Egl(k), gl)),
@@ -193,13 +216,14 @@ impl GlContext {
                 BackendKind::Window => unreachable!("not a headless backend"),
             };
             match made {
-                Ok((keep, gl)) => match Self::finish(kind, keep, gl) {
+                Ok((keep, gl)) => match Self::finish(kind, keep, gl, SOFTWARE_RASTERISER.lock()) {
                     Ok(ctx) => return Ok(ctx),
                     Err(e) => tried.push(format!("{}: {e}", kind.name())),
                 },
                 Err(e) => tried.push(format!("{}: {e}", kind.name())),
             }
         }
+        drop(serial);
         Err(NoDriver {
             tried: tried.join("; "),
         })
@@ -211,18 +235,30 @@ impl GlContext {
         gl: glow::Context,
         keep: Box<dyn std::any::Any>,
     ) -> Result<GlContext, String> {
-        Self::finish(BackendKind::Window, Backend::External(keep), gl)
+        Self::finish(
+            BackendKind::Window,
+            Backend::External(keep),
+            gl,
+            SOFTWARE_RASTERISER.lock(),
+        )
     }
 
     fn finish(
         kind: BackendKind,
         backend: Backend,
         mut gl: glow::Context,
+        serial: parking_lot::ReentrantMutexGuard<'static, ()>,
     ) -> Result<GlContext, String> {
         // Registered first, so that a refusal below tears it down like any other.
-        let keep = Rc::new(Keep {
+        let mut keep = Keep {
             backend: Some(backend),
-        });
+            _serial: Some(serial),
+        };
+        let renderer = unsafe { gl.get_parameter_string(glow::RENDERER) };
+        if !is_software_rasteriser(&renderer) {
+            keep._serial = None;
+        }
+        let keep = Rc::new(keep);
         LIVE.with(|live| live.borrow_mut().push(Rc::downgrade(&keep)));
         let version = gl.version();
         if (version.major, version.minor) < (3, 0) || version.is_embedded {
@@ -238,7 +274,7 @@ impl GlContext {
             GlInfo {
                 backend: kind,
                 vendor: gl.get_parameter_string(glow::VENDOR),
-                renderer: gl.get_parameter_string(glow::RENDERER),
+                renderer,
                 version: gl.get_parameter_string(glow::VERSION),
                 glsl_version: gl.get_parameter_string(glow::SHADING_LANGUAGE_VERSION),
                 max_texture_size: gl.get_parameter_i32(glow::MAX_TEXTURE_SIZE),
@@ -330,6 +366,54 @@ mod tests {
         for _ in 0..THREADS {
             assert!(rx.recv().unwrap());
         }
+    }
+
+    /// On a software rasteriser a second thread gets its context only once the first thread
+    /// has dropped its own: the flag is set just before the drop, so a second thread that got
+    /// its context while the first still held one would see it unset.
+    #[test]
+    fn software_contexts_of_two_threads_do_not_overlap() {
+        use std::sync::atomic::{AtomicBool, Ordering};
+        let first = GlContext::headless(BackendChoice::Auto).expect("a GL backend");
+        let software = is_software_rasteriser(&first.info.renderer);
+        let dropped = AtomicBool::new(false);
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::scope(|s| {
+            let dropped = &dropped;
+            let second = s.spawn(move || {
+                rx.recv().unwrap();
+                let ctx = GlContext::headless(BackendChoice::Auto).unwrap();
+                let overlapped = !dropped.load(Ordering::SeqCst);
+                assert!(round_trip(&ctx, 7));
+                overlapped
+            });
+            tx.send(()).unwrap();
+            std::thread::sleep(std::time::Duration::from_millis(300));
+            assert!(round_trip(&first, 6));
+            dropped.store(true, Ordering::SeqCst);
+            drop(first);
+            let overlapped = second.join().unwrap();
+            // On a hardware driver the contexts may overlap (nothing asserts that they do).
+            assert!(
+                !(software && overlapped),
+                "{}",
+                "the second context came while the first lived"
+            );
+        });
+    }
+
+    #[test]
+    fn software_rasterisers_are_recognised() {
+        for r in [
+            "llvmpipe (LLVM 15.0.6, 256 bits)",
+            "softpipe",
+            "zink (llvmpipe (LLVM 15.0.6, 256 bits))",
+        ] {
+            assert!(is_software_rasteriser(r), "{r}");
+        }
+        assert!(!is_software_rasteriser(
+            "AMD Radeon RX 6600 (radeonsi, navi23, LLVM 15.0.6)"
+        ));
     }
 
     /// Whether `backend` has a context current on this thread.
