@@ -11,12 +11,14 @@ mod common;
 use common::*;
 use gpu_radiosity::patches::{PatchLayout, Resolution};
 use gpu_radiosity::scene::{load_obj, load_obj_with, LoadOptions, Scene};
-use gpu_radiosity::solver::balance::TOLERANCE;
+use gpu_radiosity::solver::balance::{EMITTED_NOISE, TOLERANCE};
 use gpu_radiosity::solver::{CpuSolver, GpuSolver, ShotRecord, SolveOptions};
 use std::path::{Path, PathBuf};
 
-/// Every shot of `history` within its bound; the number of shots and the worst ratio.
-fn walk(name: &str, history: &[ShotRecord]) -> f64 {
+/// Every shot of `history` within its bound (or, for a shot that carries next to nothing, within
+/// the float noise of the atlas's sums, `balance::EMITTED_NOISE` of the `emitted` power, as the
+/// solver judges it); the worst ratio.
+fn walk(name: &str, history: &[ShotRecord], emitted: f64) -> f64 {
     assert!(!history.is_empty(), "{name}: no shot");
     let mut worst = 0f64;
     for r in history {
@@ -26,14 +28,17 @@ fn walk(name: &str, history: &[ShotRecord]) -> f64 {
             r.shot
         );
         let ratio = r.received_power / r.carried_power;
+        let noise = r.received_power - r.carried_power <= EMITTED_NOISE * emitted;
         assert!(
-            ratio <= TOLERANCE,
+            ratio <= TOLERANCE || noise,
             "{name}: shot {} (polygon {}) received {:.4}x what it carried",
             r.shot,
             r.shooter,
             ratio
         );
-        worst = worst.max(ratio);
+        if ratio <= TOLERANCE {
+            worst = worst.max(ratio);
+        }
     }
     println!(
         "{name}: {} shots, worst received/carried {worst:.5}",
@@ -50,7 +55,10 @@ fn default_solve(name: &str, scene: &Scene, layout: &PatchLayout) -> (f64, u32) 
     assert!(solver.converged(), "{name}: {}", solver.unshot_fraction());
     let corrections = solver.ledger().corrections();
     println!("{name}: {corrections} shots scaled back");
-    (walk(name, solver.history()), corrections)
+    (
+        walk(name, solver.history(), solver.emitted_power()),
+        corrections,
+    )
 }
 
 fn third_party(path: &str) -> PathBuf {
@@ -141,10 +149,10 @@ fn every_shot_of_a_non_planar_face_is_within_its_bound_on_both_solvers() {
     let ctx = context();
     let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
     gpu.solve(|_| {}).unwrap();
-    let gpu_worst = walk("crown, GPU", gpu.history());
+    let gpu_worst = walk("crown, GPU", gpu.history(), gpu.emitted_power());
     let mut cpu = CpuSolver::new(&scene, &layout, options, 0).unwrap();
     cpu.solve(|_| {}).unwrap();
-    let cpu_worst = walk("crown, CPU", cpu.history());
+    let cpu_worst = walk("crown, CPU", cpu.history(), cpu.emitted_power());
     // Light did reach the crown (the lamp's form factor to it is about a tenth): the bound is not
     // met by shooting nothing.
     assert!(

@@ -14,6 +14,11 @@ pub struct EnergyTotals {
     pub energy: Vec<[f64; 3]>,
     /// Per polygon: patches seen in the atlas.
     pub patches: Vec<u32>,
+    /// Per polygon: patches whose unshot radiance is not zero (RGB sum): those a shot of the
+    /// polygon would clear. A patch that has never received (buried under a block) and all its
+    /// cell with it shoots nothing (`shooters::cell_parts`), so overshooting must not count it as
+    /// able to shoot its remainder (`Overshoot::max_shot_polygons`).
+    pub lit: Vec<u32>,
 }
 
 impl EnergyTotals {
@@ -23,6 +28,7 @@ impl EnergyTotals {
         let mut totals = EnergyTotals {
             energy: vec![[0.0; 3]; polygon_count],
             patches: vec![0; polygon_count],
+            lit: vec![0; polygon_count],
         };
         for texel in rgba.chunks_exact(4) {
             let id = texel[3] as usize;
@@ -31,6 +37,7 @@ impl EnergyTotals {
             }
             let p = id - 1;
             totals.patches[p] += 1;
+            totals.lit[p] += (texel[0] + texel[1] + texel[2] != 0.0) as u32;
             let e = &mut totals.energy[p];
             for c in 0..3 {
                 e[c] += texel[c] as f64;
@@ -59,17 +66,19 @@ impl EnergyTotals {
         for &p in changed {
             let [x0, y0, x1, y1] = texels[p].map(|v| v as usize);
             let id = (p + 1) as f32;
-            let mut e = [0.0f64; 3];
+            let (mut e, mut lit) = ([0.0f64; 3], 0);
             for y in y0..y1 {
                 for texel in rgba[(y * width + x0) * 4..(y * width + x1) * 4].chunks_exact(4) {
                     if texel[3] == id {
                         for c in 0..3 {
                             e[c] += texel[c] as f64;
                         }
+                        lit += (texel[0] + texel[1] + texel[2] != 0.0) as u32;
                     }
                 }
             }
             self.energy[p] = e.map(|v| v * patch_area[p]);
+            self.lit[p] = lit;
         }
     }
 
@@ -211,8 +220,11 @@ mod tests {
         let areas = [0.5, 2.0];
         let mut t = EnergyTotals::sum(&rgba, 2, Some(&areas));
         rgba[4 * 3] = 7.0; // polygon 1's second texel changes
+        rgba[4 * 2..4 * 2 + 3].fill(0.0); // and its first is cleared: 1 patch lit, not 2
         t.update(&rgba, 4, &[[0, 0, 2, 2], [2, 0, 4, 1]], &[1], &areas);
         let full = EnergyTotals::sum(&rgba, 2, Some(&areas));
         assert_eq!(t.energy, full.energy);
+        assert_eq!(t.lit, full.lit);
+        assert_eq!(t.lit, [4, 1]);
     }
 }

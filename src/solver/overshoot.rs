@@ -96,7 +96,16 @@ impl Overshoot {
             if e == DVec3::ZERO {
                 return 0.0;
             }
-            let shot = e - self.remainder_with(all, totals, p) * self.areas[p];
+            // The remainder over the patches a shot would clear (not those that have never
+            // received: they do not shoot, and counting them kept a half-buried polygon of Lost
+            // Empire first in line for 8,000 shots that carried nothing).
+            let patches = totals.patches[p];
+            let lit = if patches > 0 {
+                self.areas[p] * totals.lit[p] as f64 / patches as f64
+            } else {
+                0.0
+            };
+            let shot = e - self.remainder_with(all, totals, p) * lit;
             std::f64::consts::PI * shot.abs().element_sum() / 3.0
         };
         super::find_max_energy::largest(totals.energy.len(), count, 0.0, power)
@@ -124,6 +133,7 @@ mod tests {
         EnergyTotals {
             energy: vec![[0.0; 3]; n],
             patches: vec![patches; n],
+            lit: vec![patches; n],
         }
     }
 
@@ -192,5 +202,32 @@ mod tests {
         let wall = (light + 1) % n;
         totals.energy[wall] = [1e-6; 3];
         assert_eq!(big.max_shot_polygons(&totals, n).len(), 2);
+    }
+
+    /// A polygon whose lit patches hold exactly their remainder has nothing to shoot, however
+    /// many of its patches have never received (they shoot nothing): it is not picked. Before,
+    /// its whole area counted, and Lost Empire's half-buried grass was picked for 8,000 shots.
+    #[test]
+    fn patches_that_never_received_add_no_remainder_to_shoot() {
+        let scene = cornell();
+        let n = scene.polygons.len();
+        let overshoot = Overshoot::new(&scene, &vec![4; n]);
+        let mut totals = no_energy(n, 4);
+        let (a, b) = (1, 2);
+        totals.energy[a] = [1.0; 3];
+        // b: 1 of its 4 patches lit, holding the remainder; the other 3 at zero.
+        totals.lit[b] = 1;
+        let remainder = overshoot.remainder_with(sum(&totals), &totals, b);
+        totals.energy[b] = (remainder * overshoot.areas[b] / 4.0).to_array();
+        // The remainder depends on the others' energy, b's own excluded: unchanged by b's.
+        assert_eq!(
+            overshoot.remainder_with(sum(&totals), &totals, b),
+            remainder
+        );
+        assert!(remainder.length() > 0.0);
+        assert_eq!(overshoot.max_shot_polygons(&totals, n), vec![a]);
+        // Counting all 4 patches, b would shoot 3/4 of its area's remainder, again and again.
+        totals.lit[b] = 4;
+        assert_eq!(overshoot.max_shot_polygons(&totals, n).len(), 2);
     }
 }
