@@ -264,6 +264,13 @@ pub struct Solution {
     pub history: Vec<ShotRecord>,
     /// Shots that reflected more than they carried and were scaled back (`SolveOptions::conserve`).
     pub corrections: u32,
+    /// Coarse clusters of small coplanar polygons (`SolveOptions::cluster_cell`; each holds
+    /// fine ones of the shooter cell's side).
+    pub clusters: usize,
+    /// Polygons in those clusters.
+    pub clustered_polygons: usize,
+    /// Shots in which a cluster shot (each one shot).
+    pub cluster_shots: u32,
 }
 
 impl Solution {
@@ -276,6 +283,9 @@ impl Solution {
             shots: solver.shots(),
             passes: solver.passes(),
             corrections: solver.ledger().corrections(),
+            clusters: solver.clusters().count(),
+            clustered_polygons: solver.clusters().clustered_polygons(),
+            cluster_shots: solver.cluster_shots(),
             unshot_fraction: solver.unshot_fraction(),
             emitted_power: solver.emitted_power(),
             pass_seconds: solver.times().clone(),
@@ -446,8 +456,18 @@ pub struct Stats {
     pub passes: u32,
     /// Shots scaled back because they reflected more than they carried (`SolveOptions::conserve`).
     pub corrections: u32,
+    /// Clusters of small coplanar polygons that shoot their small shots together
+    /// (`SolveOptions::cluster_cell`; 0 in scenes of large polygons).
+    pub clusters: usize,
+    /// Polygons in those clusters.
+    pub clustered_polygons: usize,
+    /// Shots in which a cluster shot (each one shot).
+    pub cluster_shots: u32,
     /// Seconds of the solve loop (loading, layout and images not counted).
     pub solve_seconds: f64,
+    /// Peak resident memory of the process when the statistics were made, MiB (0 where the
+    /// system does not say).
+    pub peak_memory_mib: f64,
     /// Worker threads of the CPU solver.
     pub threads: Option<usize>,
     /// Unshot power over emitted power at the end.
@@ -514,7 +534,11 @@ impl Stats {
             shots: solution.shots,
             passes: solution.passes,
             corrections: solution.corrections,
+            clusters: solution.clusters,
+            clustered_polygons: solution.clustered_polygons,
+            cluster_shots: solution.cluster_shots,
             solve_seconds: solution.solve_seconds(),
+            peak_memory_mib: peak_memory_mib(),
             threads: run.threads,
             unshot_fraction: solution.unshot_fraction,
             emitted_power: solution.emitted_power,
@@ -525,6 +549,20 @@ impl Stats {
             history: solution.history.clone(),
         }
     }
+}
+
+/// Peak resident memory of this process (VmHWM of /proc/self/status), MiB; 0 where there is no
+/// such file.
+pub fn peak_memory_mib() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("VmHWM"))
+                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        })
+        .map(|kib| kib / 1024.0)
+        .unwrap_or(0.0)
 }
 
 /// Stage `image.exr` (linear), `image.png` (tone-mapped with `exposure`), `lightmap.exr` (the

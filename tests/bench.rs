@@ -220,3 +220,58 @@ fn scaling_times_the_whole_polygons_configuration_when_asked() {
     assert_eq!(runs[0]["shots"].as_u64(), Some(fast as u64), "{}", runs[0]);
     assert_ne!(fast, shots(SolveOptions::paper_faithful(0.2)));
 }
+
+/// `bench scenes` solves third-party scenes as published with the default and reports their
+/// counts from each solve's statistics (here the two Cornell boxes: Lost Empire and the
+/// conference room take minutes, and speed is the bench's to measure).
+#[test]
+fn scenes_reports_each_third_party_scene_solved_with_the_default() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("scenes.json");
+    let stdout = run_ok([
+        "bench".as_ref(),
+        "scenes".as_ref(),
+        "--scenes".as_ref(),
+        "cornell-box,tinyobjloader-cornell-box".as_ref(),
+        "--json".as_ref(),
+        json.as_os_str(),
+    ]);
+    assert!(
+        stdout.contains("| scene | faces | polygons | patches | clustered | shots |"),
+        "{stdout}"
+    );
+    let rows: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let rows = rows.as_array().unwrap();
+    assert_eq!(rows.len(), 2);
+    // The archive's box: 18 faces in the file, two given twice and dropped, 16 polygons.
+    assert_eq!(rows[0]["scene"], "cornell-box");
+    assert_eq!(rows[0]["faces"], 16);
+    assert_eq!(rows[0]["polygons"], 16);
+    assert_eq!(rows[1]["scene"], "tinyobjloader-cornell-box");
+    assert!(rows[1]["command"]
+        .as_str()
+        .unwrap()
+        .contains("--emit light=20,20,20"));
+    for row in rows {
+        assert!(row["patches"].as_u64().unwrap() > 4000, "{row}");
+        assert!(row["shots"].as_u64().unwrap() > 0, "{row}");
+        assert_eq!(row["converged"], true, "{row}");
+        assert!(row["unshot_fraction"].as_f64().unwrap() <= 0.01, "{row}");
+        assert!(row["loop_s"].as_f64().unwrap() > 0.0, "{row}");
+        assert!(row["peak_memory_mib"].as_f64().unwrap() > 0.0, "{row}");
+        // Boxes of a few large faces: no clusters.
+        assert_eq!(row["clustered_polygons"], 0, "{row}");
+    }
+    // A scene the bench does not know is refused with the names it does.
+    let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args(["bench", "scenes", "--scenes", "sponza"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("no third-party scene 'sponza'") && stderr.contains("lost-empire"),
+        "{stderr}"
+    );
+}

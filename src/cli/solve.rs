@@ -141,6 +141,16 @@ pub struct SolveArgs {
         allow_hyphen_values = true,
     )]
     pub coarse_cell: Option<u32>,
+    /// Beyond the paper, for fewer shots on scenes of many small polygons (at most 4 patches
+    /// each on average): small touching coplanar polygons within squares of the cell's side
+    /// shoot together, as one shooter, and those within squares of this side in patches in the
+    /// shots below `--cut-above` (0: never; at most 16384). Mode default: paper 0, accurate 8.
+    #[arg(
+        long,
+        value_parser = value_parser!(u32).range(0..=values::MAX_CELL as i64),
+        allow_hyphen_values = true,
+    )]
+    pub cluster_cell: Option<u32>,
     /// Make the material NAME emit light: emitted radiance R,G,B, as `Ke` in the MTL file (each 0
     /// to 1e15; 0,0,0 turns an emitter off). Repeatable.
     #[arg(long, value_name = "NAME=R,G,B", value_parser = values::emission, allow_hyphen_values = true)]
@@ -235,6 +245,7 @@ impl SolveArgs {
             conserve: self.conserve.unwrap_or(base.conserve),
             cut_above: self.cut_above.unwrap_or(base.cut_above),
             coarse_cell: self.coarse_cell.unwrap_or(base.coarse_cell),
+            cluster_cell: self.cluster_cell.unwrap_or(base.cluster_cell),
         }
     }
 

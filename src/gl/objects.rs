@@ -302,6 +302,31 @@ impl Framebuffer {
         }
     }
 
+    /// Copy the texels `[x0, y0, x1, y1)` of colour attachment `attachment` of this framebuffer
+    /// into the same texels of `texture` (glCopyTexSubImage2D); the rectangle must lie in both.
+    pub fn copy_rect_to_texture(&self, attachment: u32, texture: &Texture, rect: [u32; 4]) {
+        let [x0, y0, x1, y1] = rect.map(|v| v as i32);
+        assert!(
+            0 <= x0
+                && x0 <= x1
+                && x1 <= texture.width
+                && 0 <= y0
+                && y0 <= y1
+                && y1 <= texture.height,
+            "{rect:?} outside a {}x{} texture",
+            texture.width,
+            texture.height
+        );
+        self.bind();
+        unsafe {
+            self.gl.read_buffer(attachment);
+            self.gl.bind_texture(glow::TEXTURE_2D, Some(texture.raw));
+            self.gl
+                .copy_tex_sub_image_2d(glow::TEXTURE_2D, 0, x0, y0, x0, y0, x1 - x0, y1 - y0);
+            self.gl.bind_texture(glow::TEXTURE_2D, None);
+        }
+    }
+
     /// Copy colour attachment 0 of this framebuffer into colour attachment `attachment` of
     /// `target`, `width` × `height` texels from the origin, unfiltered.
     pub fn blit_to(&self, target: &Framebuffer, attachment: u32, width: i32, height: i32) {

@@ -174,4 +174,18 @@ impl Backend for GpuBackend<'_> {
         self.touched.extend(0..self.reconstruction.texels().len());
         Ok(())
     }
+
+    fn clear_unshot(&mut self, polygons: &[usize]) -> Result<(), SolveError> {
+        let rects: Vec<[u32; 4]> = polygons
+            .iter()
+            .map(|&p| {
+                let lm = &self.dense.lightmaps[p];
+                [lm.x, lm.y, lm.x + lm.w, lm.y + lm.h]
+            })
+            .collect();
+        self.reconstruction
+            .clear_unshot(self.ctx, &self.lightmaps, &rects)?;
+        self.touched.extend_from_slice(polygons);
+        Ok(())
+    }
 }

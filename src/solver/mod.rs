@@ -13,6 +13,7 @@
 //! (`SolveOptions::overshoot`, `small_hemi_res`, `rotate_item_buffer`, `shooters_per_pass`).
 
 pub mod balance;
+pub mod clusters;
 pub mod cpu;
 pub mod find_max_energy;
 pub mod form_factor;
@@ -32,7 +33,7 @@ pub use cpu::CpuSolver;
 pub use gpu::GpuSolver;
 pub use ledger::{Ledger, PassTimes};
 pub use options::*;
-pub use progressive::{Backend, Solver};
+pub use progressive::{Backend, Member, Solver};
 pub use tuning::Tuning;
 
 use crate::gl::GlError;

@@ -108,6 +108,12 @@ pub struct SolveOptions {
     /// shot). Most of a large scene's passes are late shots of its largest polygons, each a
     /// fraction of a percent of the light; wider cells shoot them in a fraction of the passes.
     pub coarse_cell: u32,
+    /// Beyond the paper, for fewer shots on scenes of many small polygons: small coplanar
+    /// polygons within a square of `cluster_cell` × `cluster_cell` patches on their plane shoot
+    /// together, as one shooter, once their summed unshot power is below `cut_above`
+    /// (`clusters.rs`; only in scenes whose polygons average at most
+    /// `clusters::AVERAGE_PATCHES` patches). 0: every polygon shoots alone.
+    pub cluster_cell: u32,
 }
 
 impl SolveOptions {
@@ -134,6 +140,7 @@ impl SolveOptions {
             conserve: false,
             cut_above: 0.0,
             coarse_cell: 0,
+            cluster_cell: 0,
         }
     }
 
@@ -148,6 +155,8 @@ impl SolveOptions {
     ///   carrying over [`SMALL_SHOT`], falling with the cube root of the share from 128² to 16²)
     ///   and turned shot by shot, [`MAX_SHOOTERS_PER_PASS`] shooters per reconstruction pass,
     ///   and the smaller shots from cells of [`COARSE_CELL`] patches (cut down to 4×4 at contacts);
+    ///   in scenes of many small polygons, small coplanar neighbours within [`CLUSTER_CELL`] patches
+    ///   shoot their small shots together (`clusters.rs`);
     /// - the stopping rule at [`DEFAULT_THRESHOLD`], where every region of the Cornell box lands
     ///   within 3 % of a path-traced reference (`tests/path_traced.rs`).
     pub fn accurate() -> Self {
@@ -170,6 +179,7 @@ impl SolveOptions {
             conserve: true,
             cut_above: CUT_ABOVE,
             coarse_cell: COARSE_CELL,
+            cluster_cell: CLUSTER_CELL,
             ..Self::paper()
         }
     }
@@ -187,6 +197,7 @@ impl SolveOptions {
             shooters_per_pass: 1,
             cut_above: 0.0,
             coarse_cell: 0,
+            cluster_cell: 0,
             ..Self::accurate()
         }
     }
@@ -286,6 +297,11 @@ pub const CUT_ABOVE: f32 = 0.003;
 /// The cell side of shots below [`CUT_ABOVE`] (`SolveOptions::coarse_cell`): 16 patches, four
 /// times the default cell's side, a sixteenth of its cells.
 pub const COARSE_CELL: u32 = 16;
+
+/// The side, in patches, of the squares in which small coplanar polygons shoot together
+/// (`SolveOptions::cluster_cell`): half the coarse cells' side, so that a cluster's one shot
+/// stands for at most 64 patches.
+pub const CLUSTER_CELL: u32 = 8;
 
 /// The configurations `bench guard` compares: the paper-faithful one, each speed option alone
 /// on it, whole polygons with all of them, and the default.

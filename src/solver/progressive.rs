@@ -19,6 +19,7 @@
 //! runs the loop and keeps the books ([`Ledger`]); `GpuSolver` and `CpuSolver` name the two.
 
 use super::balance::{self, ShotBalance};
+use super::clusters::{self, Clusters};
 use super::ledger::{Ledger, PassTimes};
 use super::overshoot::Overshoot;
 use super::pass_names::{ACCUMULATION, FIND_MAX_ENERGY, READBACK, RECONSTRUCTION, VISIBILITY};
@@ -50,6 +51,21 @@ pub trait Backend {
     fn radiosity(&self) -> Vec<f32>;
     /// Replace both lightmaps.
     fn load(&mut self, radiosity: &[f32], unshot: &[f32]) -> Result<(), SolveError>;
+    /// Beyond the paper (clusters): zero the unshot radiance of every patch of `polygons`
+    /// before a shot's passes, as their cluster's shot carries it; they count as changed.
+    fn clear_unshot(&mut self, polygons: &[usize]) -> Result<(), SolveError>;
+}
+
+/// A polygon whose unshot energy a cluster's shooter carries (`clusters.rs`): the shooter's
+/// index among the step's shooters, and the energy (Σ L·A, RGB) the shot takes from it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Member {
+    /// Index of its cluster's shooter in the step's shooters.
+    pub shooter: usize,
+    /// The polygon.
+    pub polygon: usize,
+    /// What it carries: its unshot energy when the step began.
+    pub energy: glam::Vec3,
 }
 
 /// Progressive refinement radiosity on a backend `B`: the paper's loop and its bookkeeping.
@@ -70,6 +86,10 @@ pub struct Solver<'a, B: Backend> {
     unshot_ceiling: f64,
     /// The ambient estimate, when overshooting (`SolveOptions::overshoot`).
     overshoot: Option<Overshoot>,
+    /// Small coplanar polygons that shoot their small shots together
+    /// (`SolveOptions::cluster_cell`), and how many such shots were made.
+    clusters: Clusters,
+    cluster_shots: u32,
 }
 
 impl<'a, B: Backend> Solver<'a, B> {
@@ -84,6 +104,7 @@ impl<'a, B: Backend> Solver<'a, B> {
         let overshoot = options
             .overshoot
             .then(|| Overshoot::new(scene, ledger.patches()));
+        let clusters = Clusters::new(scene, layout, options.shooter_cell, options.cluster_cell);
         Ok(Solver {
             scene,
             layout,
@@ -94,6 +115,8 @@ impl<'a, B: Backend> Solver<'a, B> {
             excess_reported: std::cell::Cell::new(false),
             unshot_ceiling: 0.0,
             overshoot,
+            clusters,
+            cluster_shots: 0,
             ledger,
         })
     }
@@ -105,42 +128,109 @@ impl<'a, B: Backend> Solver<'a, B> {
         }
         // Find_Max_Energy (3.2.2, step 5): the polygon with the most unshot power shoots next.
         let t = Instant::now();
-        let shooters = self.next_shooters();
+        let (shooters, members) = self.next_shooters();
         if shooters.is_empty() {
             return Ok(None);
         }
         self.ledger.times.add(FIND_MAX_ENERGY, t.elapsed());
-        self.shoot(&shooters).map(Some)
+        self.shoot_step(&shooters, &members).map(Some)
     }
 
     /// The shooters of the next step: Find_Max_Energy's polygon, its shooters (`shooters_of`).
     /// Beyond the paper, with `shooters_per_pass` K > 1, the next polygons too, as long as all
     /// their shooters fit in one reconstruction pass, and no more than the shots left before
-    /// `max_shots`. Empty when nothing is left to shoot.
-    fn next_shooters(&self) -> Vec<Shooter> {
+    /// `max_shots`; and a polygon of a cluster whose shot is small shoots with its cluster
+    /// (`cluster_of`), whose members it returns. Empty when nothing is left to shoot.
+    fn next_shooters(&self) -> (Vec<Shooter>, Vec<Member>) {
         let k = self.options.shooters_per_pass.max(1) as usize;
         let left = self.options.max_shots.saturating_sub(self.ledger.shots());
-        let mut shooters = Vec::new();
-        for (i, p) in self
-            .next_polygons(k.min(left as usize).max(1))
-            .into_iter()
-            .enumerate()
-        {
-            let mut cells = self.shooters_of(p);
+        let (mut shooters, mut members) = (Vec::new(), Vec::new());
+        // The polygons this step already shoots, alone or in a cluster: none shoots twice.
+        let mut taken: Vec<usize> = Vec::new();
+        let mut units = 0;
+        for p in self.next_polygons(k.min(left as usize).max(1)) {
+            if taken.contains(&p) {
+                continue;
+            }
+            let (mut cells, cluster) = match self.cluster_of(p, &taken) {
+                Some((shooter, cluster)) => (vec![shooter], cluster),
+                None => (self.shooters_of(p), Vec::new()),
+            };
             // A polygon shot in a later pass of the step would have received from the earlier
             // ones and then lost it to its remainder; so either one polygon (its cells K to a
             // pass: they send each other nothing), or polygons that share one pass.
-            if i > 0 && shooters.len() + cells.len() > k {
+            if !shooters.is_empty() && shooters.len() + cells.len() > k {
                 break;
             }
             if self.options.rotate_item_buffer {
                 // Each polygon of the step its own turn, as if shot one after another.
-                let turn = super::turn_of_shot(self.ledger.shots() + i as u32);
+                let turn = super::turn_of_shot(self.ledger.shots() + units);
                 cells.iter_mut().for_each(|s| s.turn = turn);
+            }
+            units += 1;
+            taken.push(p);
+            for m in cluster {
+                taken.push(m.polygon);
+                members.push(Member {
+                    shooter: shooters.len(),
+                    ..m
+                });
             }
             shooters.append(&mut cells);
         }
-        shooters
+        (shooters, members)
+    }
+
+    /// Beyond the paper: the shooter of `p`'s cluster (`clusters.rs`) and its members, when `p`
+    /// belongs to one and at least two of its members have something to shoot of the same sign
+    /// as `p`'s (not in `taken`; every channel ≥ 0, or with overshooting every channel ≤ 0: a
+    /// shot carries light or takes back what was overshot, never both): the coarse cluster when
+    /// its members carry less than `cut_above` of the emitted power together (as a polygon's
+    /// coarse cells), else the fine one. `None`: `p` shoots alone.
+    fn cluster_of(&self, p: usize, taken: &[usize]) -> Option<(Shooter, Vec<Member>)> {
+        let totals = self.ledger.totals();
+        let sign = |e: glam::Vec3| {
+            if e.min_element() >= 0.0 && e.max_element() > 0.0 {
+                1
+            } else if e.max_element() <= 0.0 && e.min_element() < 0.0 {
+                -1
+            } else {
+                0
+            }
+        };
+        let of_p = sign(totals.energy_rgb(p));
+        if of_p == 0 {
+            return None;
+        }
+        let shooting = |coarse: bool| -> Option<Vec<(usize, glam::Vec3)>> {
+            let members: Vec<(usize, glam::Vec3)> = (self.clusters.members_of(p, coarse)?)
+                .iter()
+                .filter(|q| !taken.contains(q))
+                .map(|&q| (q, totals.energy_rgb(q)))
+                .filter(|&(_, e)| sign(e) == of_p)
+                .collect();
+            (members.len() >= 2 && members.iter().any(|&(q, _)| q == p)).then_some(members)
+        };
+        let small = |members: &Vec<(usize, glam::Vec3)>| {
+            let power: f64 = members.iter().map(|&(q, _)| totals.magnitude(q)).sum();
+            power < self.options.cut_above as f64 * self.ledger.emitted_power()
+        };
+        let members = match shooting(true) {
+            Some(coarse) if small(&coarse) => coarse,
+            _ => shooting(false)?,
+        };
+        let mut shooter =
+            clusters::cluster_shooter(self.scene, &self.layout.patches_per_polygon, &members)?;
+        shooter.hemi_res = self.item_buffer_resolution(&shooter);
+        let members = members
+            .into_iter()
+            .map(|(polygon, energy)| Member {
+                shooter: 0,
+                polygon,
+                energy,
+            })
+            .collect();
+        Some((shooter, members))
     }
 
     /// One shot of the polygons of `shooters` (texels in the caller's layout): a visibility pass
@@ -151,6 +241,18 @@ impl<'a, B: Backend> Solver<'a, B> {
     /// `step` picks them: a polygon shot in a later pass would lose what it received in an earlier
     /// one. The shot counts one per polygon.
     pub fn shoot(&mut self, shooters: &[Shooter]) -> Result<ShotRecord, SolveError> {
+        self.shoot_step(shooters, &[])
+    }
+
+    /// [`shoot`](Self::shoot), with the members of the clusters among `shooters` (see
+    /// [`Member`]): their unshot energy is cleared before the passes, and the shot's books count
+    /// each member's energy as carried (so a cluster's shot is judged as its members' shots
+    /// would be). A cluster counts as one shot.
+    fn shoot_step(
+        &mut self,
+        shooters: &[Shooter],
+        members: &[Member],
+    ) -> Result<ShotRecord, SolveError> {
         let polygon = shooters.first().map(|s| s.polygon).unwrap_or(0);
         let mut polygons: Vec<usize> = shooters.iter().map(|s| s.polygon).collect();
         polygons.dedup();
@@ -167,9 +269,18 @@ impl<'a, B: Backend> Solver<'a, B> {
                 ..*s
             })
             .collect();
+        if !members.is_empty() {
+            // Cleared before the passes, so that the members keep what the pass's other
+            // shooters send them, as a shooting texel does.
+            let cleared: Vec<usize> = members.iter().map(|m| m.polygon).collect();
+            let (backend, times) = (&mut self.backend, &mut self.ledger.times);
+            times.time(RECONSTRUCTION, || backend.clear_unshot(&cleared))?;
+            self.cluster_shots += 1;
+        }
         self.run_passes(&own, true)?;
         let mut totals_before = self.read_back()?;
-        let mut balance = self.balance_of(&own, &totals_before);
+        let books = books_of(&own, members);
+        let mut balance = self.balance_of(&books, &totals_before);
         // Beyond the paper: a shot whose receivers got more than it carried is scaled back.
         if self.options.conserve && balance.excess() > balance::CORRECT_ABOVE {
             let correction = balance::correction(&own, &balance);
@@ -177,12 +288,16 @@ impl<'a, B: Backend> Solver<'a, B> {
             // over each other's.
             let redraw = own.len() > self.options.shooters_per_pass.max(1) as usize;
             self.run_passes(&correction, redraw)?;
+            // A flag per polygon: a search of the list per polygon took Lost Empire's solve
+            // O(changed²), tens of thousands of receivers, 59 % of its time.
+            let mut known = vec![false; self.scene.polygons.len()];
+            totals_before.iter().for_each(|&(q, _)| known[q] = true);
             for (p, old) in self.read_back()? {
-                if !totals_before.iter().any(|&(q, _)| q == p) {
+                if !known[p] {
                     totals_before.push((p, old));
                 }
             }
-            balance = self.balance_of(&own, &totals_before);
+            balance = self.balance_of(&books, &totals_before);
             self.ledger.count_correction();
         }
         let record =
@@ -448,6 +563,17 @@ impl<'a, B: Backend> Solver<'a, B> {
         self.ledger.passes()
     }
 
+    /// The scene's clusters of small coplanar polygons (none unless `cluster_cell` is set and
+    /// the scene's polygons are small; `clusters.rs`).
+    pub fn clusters(&self) -> &Clusters {
+        &self.clusters
+    }
+
+    /// Shots so far in which a cluster shot (each counts as one shot).
+    pub fn cluster_shots(&self) -> u32 {
+        self.cluster_shots
+    }
+
     /// Every shot so far, in order.
     pub fn history(&self) -> &[ShotRecord] {
         self.ledger.history()
@@ -545,8 +671,31 @@ impl<'a, B: Backend> Solver<'a, B> {
     }
 }
 
-/// A texel rectangle of lightmap `from` at the same place in `to` (the same lightmap elsewhere).
+/// The shooters as a shot's books count them: a cluster's shooter (`members`' `shooter`) as one
+/// shooter per member, with the member's polygon and energy, so that each member's fall in
+/// unshot energy counts as carried, not as a loss.
+fn books_of(shooters: &[Shooter], members: &[Member]) -> Vec<Shooter> {
+    if members.is_empty() {
+        return shooters.to_vec();
+    }
+    let mut books: Vec<Shooter> = (shooters.iter().enumerate())
+        .filter(|&(i, _)| !members.iter().any(|m| m.shooter == i))
+        .map(|(_, s)| *s)
+        .collect();
+    books.extend(members.iter().map(|m| Shooter {
+        polygon: m.polygon,
+        energy: m.energy,
+        ..shooters[m.shooter]
+    }));
+    books
+}
+
+/// A texel rectangle of lightmap `from` at the same place in `to` (the same lightmap elsewhere);
+/// a shooter that owns no texels (`[0; 4]`: a cluster's) owns none there either.
 fn move_rect(r: [u32; 4], from: &Lightmap, to: &Lightmap) -> [u32; 4] {
+    if r == [0; 4] {
+        return r;
+    }
     let (x, y) = (|t: u32| t - from.x + to.x, |t: u32| t - from.y + to.y);
     [x(r[0]), y(r[1]), x(r[2]), y(r[3])]
 }

@@ -7,6 +7,8 @@
 //!   path-traced reference (`validate::path_traced`).
 //! - `scaling` (`scaling.rs`): seconds, shots and peak memory against the patch count, both
 //!   solvers, with a log-log plot.
+//! - `scenes` (`scenes.rs`): the third-party scenes of `scenes/third_party/`, each solved with
+//!   the default to the stopping rule: counts, shots, loop seconds, peak memory.
 //!
 //! The configurations they time are the solver's (`solver::options`): `SolveOptions::paper_faithful`
 //! (the paper's loop: one polygon and one pass per shot), `SolveOptions::default_with` (the
@@ -15,6 +17,7 @@
 
 mod guard;
 pub mod scaling;
+mod scenes;
 mod table1;
 
 use crate::gl::{BackendChoice, GlContext};
@@ -24,6 +27,7 @@ use crate::solver::{GpuSolver, SolveOptions};
 use anyhow::{Context, Result};
 use std::time::Instant;
 
+pub use crate::pipeline::peak_memory_mib;
 pub use table1::shader_cache_disabled_by_env;
 
 /// Mesa's on-disk shader cache during the timed GPU setups.
@@ -42,8 +46,8 @@ pub enum ShaderCache {
 pub struct BenchArgs {
     /// What to benchmark: `table1` (the paper's Table 1, paper-faithful and fast rows), `guard`
     /// (each speed option's time and accuracy on the simple room and the Cornell box), `scaling` (cost against
-    /// patch count, both solvers).
-    #[arg(value_parser = ["table1", "guard", "scaling"])]
+    /// patch count, both solvers), `scenes` (the third-party scenes solved with the default).
+    #[arg(value_parser = ["table1", "guard", "scaling", "scenes"])]
     pub what: String,
     /// The OpenGL backend of the GPU runs (EGL or OSMesa; `auto` tries both).
     #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
@@ -64,7 +68,8 @@ pub struct BenchArgs {
         allow_hyphen_values = true,
     )]
     pub repeat: u32,
-    /// Only these rooms (simple, complex).
+    /// Only these rooms (simple, complex); `scenes`: only these third-party scenes
+    /// (cornell-box, tinyobjloader-cornell-box, lost-empire, conference-room; all by default).
     #[arg(
         long,
         value_delimiter = ',',
@@ -143,19 +148,6 @@ pub fn cpu_model() -> String {
         .unwrap_or_else(|| "unknown CPU".into())
 }
 
-/// Peak resident memory of this process (VmHWM), MiB.
-pub fn peak_memory_mib() -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|t| {
-            t.lines()
-                .find(|l| l.starts_with("VmHWM"))
-                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
-        })
-        .map(|kib| kib / 1024.0)
-        .unwrap_or(0.0)
-}
-
 /// A bundled Table 1 room (`simple` or `complex`) and its layout at the room's own patch size.
 pub fn room(name: &str) -> Result<(crate::scene::Scene, PatchLayout)> {
     let scene = bundled::find(name)
@@ -221,6 +213,7 @@ pub fn run_bench(args: &BenchArgs) -> Result<()> {
     match args.what.as_str() {
         "guard" => guard::run(args),
         "scaling" => scaling::run(args),
+        "scenes" => scenes::run(args),
         _ => table1::run(args),
     }
 }

@@ -186,4 +186,22 @@ impl Backend for CpuBackend<'_> {
         self.marked.fill(true);
         Ok(())
     }
+
+    fn clear_unshot(&mut self, polygons: &[usize]) -> Result<(), SolveError> {
+        let width = self.layout.atlas_width as usize;
+        for &p in polygons {
+            let lm = &self.layout.lightmaps[p];
+            let id = (p + 1) as f32;
+            for y in lm.y as usize..(lm.y + lm.h) as usize {
+                let row = (y * width + lm.x as usize) * 4..(y * width + (lm.x + lm.w) as usize) * 4;
+                for texel in self.unshot[row].chunks_exact_mut(4) {
+                    if texel[3] == id {
+                        texel[..3].fill(0.0);
+                    }
+                }
+            }
+            self.marked[p] = true;
+        }
+        Ok(())
+    }
 }

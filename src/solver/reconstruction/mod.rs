@@ -443,6 +443,41 @@ impl ReconstructionPass {
         ctx.check(ACCUMULATION)
     }
 
+    /// Beyond the paper (clusters): zero the unshot radiance (RGB; alpha, the polygon ID, kept)
+    /// of the texel rectangles `rects` in the unshot renderbuffer, by scissored clears, and
+    /// copy them into the unshot texture (glCopyTexSubImage2D, as `copy_into`), so that the
+    /// two agree whether or not the next pass draws those texels.
+    pub fn clear_unshot(
+        &self,
+        ctx: &GlContext,
+        lightmaps: &Lightmaps,
+        rects: &[[u32; 4]],
+    ) -> Result<(), GlError> {
+        let gl = &ctx.gl;
+        self.target.begin(ctx, false);
+        unsafe {
+            gl.color_mask(true, true, true, false);
+            gl.enable(glow::SCISSOR_TEST);
+            for &[x0, y0, x1, y1] in rects {
+                gl.scissor(x0 as i32, y0 as i32, (x1 - x0) as i32, (y1 - y0) as i32);
+                // Draw buffer 1 is the unshot renderbuffer (`Renderbuffers::begin`).
+                gl.clear_buffer_f32_slice(glow::COLOR, 1, &[0.0; 4]);
+            }
+            gl.disable(glow::SCISSOR_TEST);
+            gl.color_mask(true, true, true, true);
+        }
+        for &rect in rects {
+            self.target
+                .fbo
+                .copy_rect_to_texture(glow::COLOR_ATTACHMENT1, &lightmaps.unshot, rect);
+        }
+        unsafe {
+            gl.read_buffer(glow::COLOR_ATTACHMENT0);
+            gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+        }
+        ctx.check(ACCUMULATION)
+    }
+
     /// The paper's accumulation: glCopyTexSubImage2D from the renderbuffers into the lightmaps.
     pub fn copy_into(&self, ctx: &GlContext, lightmaps: &Lightmaps) -> Result<(), GlError> {
         if !faults::active(Fault::SkipAccumulationCopy) {

@@ -1,0 +1,182 @@
+//! `radiosity bench scenes`: each third-party scene of `scenes/third_party/` solved with the
+//! default settings to the stopping rule (`--threshold`, 1 % here), one child `radiosity solve`
+//! per scene (so that each peak memory is its own): faces, polygons after merging, patches,
+//! shots, passes, loop seconds, unshot power at the end and peak memory. Lights a file does not
+//! define come from `--emit`, as the gallery (docs/gallery.md) gives them.
+
+use super::BenchArgs;
+use anyhow::{Context, Result};
+use std::path::{Path, PathBuf};
+
+/// A third-party scene: its name, its OBJ under `scenes/third_party/` and the `--emit` it needs.
+struct ThirdParty {
+    name: &'static str,
+    obj: &'static str,
+    emit: Option<&'static str>,
+}
+
+/// Every third-party scene, smallest first.
+const SCENES: [ThirdParty; 4] = [
+    ThirdParty {
+        name: "cornell-box",
+        obj: "cornell-box/CornellBox-Original.obj",
+        emit: None,
+    },
+    ThirdParty {
+        name: "tinyobjloader-cornell-box",
+        obj: "tinyobjloader-cornell-box/cornell_box.obj",
+        emit: Some("light=20,20,20"),
+    },
+    ThirdParty {
+        name: "lost-empire",
+        obj: "lost-empire/lost_empire.obj",
+        emit: Some("Torch=5,4,2"),
+    },
+    ThirdParty {
+        name: "conference-room",
+        obj: "conference-room/conference.obj",
+        emit: Some("mesh5_SG=1,1,1"),
+    },
+];
+
+/// One scene's figures, from its solve's stats.json.
+#[derive(serde::Serialize, Debug)]
+struct Row {
+    scene: &'static str,
+    command: String,
+    faces: u64,
+    polygons: u64,
+    patches: u64,
+    clustered_polygons: u64,
+    shots: u64,
+    passes: u64,
+    loop_s: f64,
+    unshot_fraction: f64,
+    converged: bool,
+    peak_memory_mib: f64,
+}
+
+/// `scenes/third_party/` of the working directory's checkout, or of the one this program was
+/// built from.
+fn third_party_dir() -> Result<PathBuf> {
+    let here = Path::new("scenes/third_party");
+    let built = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/third_party");
+    [here.to_path_buf(), built]
+        .into_iter()
+        .find(|d| d.is_dir())
+        .context(
+            "no scenes/third_party/ here nor where this program was built: run it in a checkout",
+        )
+}
+
+/// Which scenes `--scenes` names (all of them unless it names third-party ones).
+fn chosen(args: &BenchArgs) -> Result<Vec<&'static ThirdParty>> {
+    let named: Vec<&String> = args
+        .scenes
+        .iter()
+        .filter(|n| !matches!(n.as_str(), "simple" | "complex"))
+        .collect();
+    if named.is_empty() {
+        return Ok(SCENES.iter().collect());
+    }
+    named
+        .into_iter()
+        .map(|n| {
+            SCENES
+                .iter()
+                .find(|s| s.name == n.as_str())
+                .with_context(|| {
+                    let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
+                    format!("no third-party scene '{n}': they are {}", names.join(", "))
+                })
+        })
+        .collect()
+}
+
+/// Run the benchmark: one solve per scene, a Markdown table, and `--json`.
+pub fn run(args: &BenchArgs) -> Result<()> {
+    use clap::ValueEnum;
+    let dir = third_party_dir()?;
+    let scratch = tempfile_dir()?;
+    let backend = args.backend.to_possible_value().context("a backend name")?;
+    outln!("| scene | faces | polygons | patches | clustered | shots | passes | loop s | unshot | peak MiB |");
+    outln!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let mut rows = Vec::new();
+    for scene in chosen(args)? {
+        let out = scratch.join(scene.name);
+        let obj = dir.join(scene.obj);
+        let mut command: Vec<String> = vec!["solve".into(), obj.display().to_string()];
+        if let Some(emit) = scene.emit {
+            command.extend(["--emit".into(), emit.into()]);
+        }
+        command.extend(["--threshold".into(), args.threshold.to_string()]);
+        command.extend(["--backend".into(), backend.get_name().into()]);
+        let status = std::process::Command::new(std::env::current_exe()?)
+            .args(&command)
+            .arg("--out")
+            .arg(&out)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .status()
+            .with_context(|| format!("running the solve of {}", scene.name))?;
+        anyhow::ensure!(
+            status.success(),
+            "the solve of {} failed ({status}): radiosity {}",
+            scene.name,
+            command.join(" ")
+        );
+        let stats_path = out.join("stats.json");
+        let stats: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(&stats_path)
+                .with_context(|| format!("reading {}", stats_path.display()))?,
+        )
+        .with_context(|| format!("parsing {}", stats_path.display()))?;
+        let int = |k: &str| stats[k].as_u64().unwrap_or(0);
+        let float = |k: &str| stats[k].as_f64().unwrap_or(f64::NAN);
+        let row = Row {
+            scene: scene.name,
+            command: format!("radiosity {}", command.join(" ")),
+            faces: int("faces"),
+            polygons: int("polygons"),
+            patches: int("patches"),
+            clustered_polygons: int("clustered_polygons"),
+            shots: int("shots"),
+            passes: int("passes"),
+            loop_s: float("solve_seconds"),
+            unshot_fraction: float("unshot_fraction"),
+            converged: float("unshot_fraction") <= args.threshold as f64,
+            peak_memory_mib: float("peak_memory_mib"),
+        };
+        outln!(
+            "| {} | {} | {} | {} | {} | {} | {} | {:.1} | {:.2} %{} | {:.0} |",
+            row.scene,
+            row.faces,
+            row.polygons,
+            row.patches,
+            row.clustered_polygons,
+            row.shots,
+            row.passes,
+            row.loop_s,
+            100.0 * row.unshot_fraction,
+            if row.converged {
+                ""
+            } else {
+                " (not converged)"
+            },
+            row.peak_memory_mib
+        );
+        rows.push(row);
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    if let Some(path) = &args.json {
+        crate::display::output::write_json(path, &rows)?;
+    }
+    Ok(())
+}
+
+/// A fresh folder for the solves' outputs, removed at the end.
+fn tempfile_dir() -> Result<PathBuf> {
+    let d = std::env::temp_dir().join(format!("radiosity-bench-scenes-{}", std::process::id()));
+    std::fs::create_dir_all(&d).with_context(|| format!("creating {}", d.display()))?;
+    Ok(d)
+}

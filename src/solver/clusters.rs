@@ -1,0 +1,347 @@
+//! Clusters, beyond the paper, for scenes made of many small polygons: small coplanar polygons
+//! that lie in one square of a grid on their plane shoot together, as one shooter, from one
+//! point, with one visibility pass.
+//!
+//! Why: the paper's loop shoots one polygon per step, each with its own visibility pass. A scene
+//! of tens of thousands of polygons of a patch or two each (a voxel world's faces, whose
+//! materials differ block by block, so that merging leaves them apart) needs as many steps to
+//! shoot its light once, and never reaches the stopping rule (Lost Empire: 6.5 % unshot after
+//! 10,000 shots). A small polygon's late shot carries little, and its neighbours in the same
+//! plane would shoot nearly the same thing from nearly the same place: one shot serves them all.
+//!
+//! What keeps it right: only small shots cluster (the cluster's unshot power below
+//! `SolveOptions::cut_above` of the emitted power, as coarse cells), never an emitter; the
+//! cluster shoots from the centre of the member nearest its power-weighted centre (a point on a
+//! real surface, not between members, where a column standing among them could hide it), with
+//! the rectangle around its members as the outline of the polygon form factor (its energy spread
+//! over that rectangle: exact far away, and never more than it carried, by reciprocity); every
+//! member's unshot energy is cleared, and the shot's books count each member's energy as carried
+//! (`Solver::shoot_step`). Scenes whose polygons average more than [`AVERAGE_PATCHES`] patches
+//! (the Table 1 rooms, the Cornell boxes) have no clusters: their shots stay as they were.
+
+use super::{Shooter, MAX_CORNERS};
+use crate::patches::PatchLayout;
+use crate::scene::Scene;
+use glam::Vec3;
+use std::collections::BTreeMap;
+
+/// Scenes whose polygons have more patches than this on average form no clusters: their
+/// polygons are large enough to shoot alone (the simple room has 9.0, the complex room 10.1;
+/// Lost Empire 1.6, the conference room 1.9).
+pub const AVERAGE_PATCHES: f64 = 4.0;
+
+/// The small coplanar polygons of a scene grouped into clusters, at two sizes: fine clusters
+/// (squares of the ordinary shooter cell) for any shot, coarse ones (squares of
+/// `SolveOptions::cluster_cell`) for small shots, as a polygon's cells are
+/// (`SolveOptions::coarse_cell`). A fine cluster lies within one coarse cluster.
+#[derive(Clone, Debug, Default)]
+pub struct Clusters {
+    fine: Level,
+    coarse: Level,
+}
+
+/// One size of clusters.
+#[derive(Clone, Debug, Default)]
+struct Level {
+    /// Per polygon, its cluster's index, if it has one.
+    of: Vec<Option<u32>>,
+    /// Each cluster's polygons, ascending.
+    members: Vec<Vec<usize>>,
+}
+
+impl Clusters {
+    /// No clusters: every polygon shoots alone (the paper).
+    pub fn none(polygons: usize) -> Clusters {
+        Clusters {
+            fine: Level::none(polygons),
+            coarse: Level::none(polygons),
+        }
+    }
+
+    /// The clusters of `scene` laid out as `layout`, fine in squares of `fine` patches, coarse
+    /// in squares of `coarse` (0: no clusters at all; `fine` 0 or above `coarse`: coarse only).
+    /// A scene of large polygons ([`AVERAGE_PATCHES`]) has none.
+    pub fn new(scene: &Scene, layout: &PatchLayout, fine: u32, coarse: u32) -> Clusters {
+        let n = scene.polygons.len();
+        let patches: u64 = layout.patches_per_polygon.iter().map(|&p| p as u64).sum();
+        if coarse == 0 || n == 0 || patches as f64 / n as f64 > AVERAGE_PATCHES {
+            return Clusters::none(n);
+        }
+        let fine = if fine == 0 || fine >= coarse {
+            Level::none(n)
+        } else {
+            Level::new(scene, layout, fine)
+        };
+        Clusters {
+            fine,
+            coarse: Level::new(scene, layout, coarse),
+        }
+    }
+
+    /// The polygons of `p`'s coarse (`coarse`) or fine cluster (`p` among them), or `None` if
+    /// it has none of that size.
+    pub fn members_of(&self, p: usize, coarse: bool) -> Option<&[usize]> {
+        let level = if coarse { &self.coarse } else { &self.fine };
+        let c = (*level.of.get(p)?)?;
+        Some(&level.members[c as usize])
+    }
+
+    /// How many coarse clusters there are.
+    pub fn count(&self) -> usize {
+        self.coarse.members.len()
+    }
+
+    /// How many fine clusters there are.
+    pub fn fine_count(&self) -> usize {
+        self.fine.members.len()
+    }
+
+    /// How many polygons belong to a cluster (every one of a fine cluster is in a coarse one).
+    pub fn clustered_polygons(&self) -> usize {
+        self.coarse.members.iter().map(Vec::len).sum()
+    }
+}
+
+impl Level {
+    fn none(polygons: usize) -> Level {
+        Level {
+            of: vec![None; polygons],
+            members: Vec::new(),
+        }
+    }
+
+    /// Polygons of at most `side` patches that are not emitters, grouped by plane (normal and
+    /// offset, to a thousandth and a hundredth of a patch) and by square of `side` × `side`
+    /// patches on it, then split into groups that touch (share a corner): tiles on both sides
+    /// of a wall standing on them do not, and must not shoot from one side. Groups of one are
+    /// left alone.
+    fn new(scene: &Scene, layout: &PatchLayout, side: u32) -> Level {
+        let n = scene.polygons.len();
+        let length = side as f32 * layout.patch_size;
+        let offset_step = layout.patch_size * 0.01;
+        // A BTreeMap, so that the clusters come in the same order on every run.
+        let mut groups: BTreeMap<([i32; 3], i64, i64, i64), Vec<usize>> = BTreeMap::new();
+        for (p, polygon) in scene.polygons.iter().enumerate() {
+            let count = layout.patches_per_polygon[p];
+            if count == 0 || count > side || scene.material(polygon).is_emitter() {
+                continue;
+            }
+            let normal = (polygon.normal * 1000.0).round();
+            let key_normal = normal.to_array().map(|v| v as i32);
+            // The grid's axes from the rounded normal, so that every member uses the same ones.
+            let (u, v) = normal.normalize().any_orthonormal_pair();
+            let c = polygon.centroid;
+            let key = (
+                key_normal,
+                (polygon.normal.dot(c) / offset_step).round() as i64,
+                (c.dot(u) / length).floor() as i64,
+                (c.dot(v) / length).floor() as i64,
+            );
+            groups.entry(key).or_default().push(p);
+        }
+        let mut level = Level::none(n);
+        let corner = layout.patch_size * 1e-3;
+        for group in groups.into_values().filter(|m| m.len() > 1) {
+            for members in touching(scene, &group, corner) {
+                let index = level.members.len() as u32;
+                for &p in &members {
+                    level.of[p] = Some(index);
+                }
+                level.members.push(members);
+            }
+        }
+        level
+    }
+}
+
+/// `group`'s polygons split into sets that touch, directly or through each other (a corner
+/// within `tolerance` of another's); sets of one left out; each ascending, in order of their
+/// first polygon.
+fn touching(scene: &Scene, group: &[usize], tolerance: f32) -> Vec<Vec<usize>> {
+    let mut parent: Vec<usize> = (0..group.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let mut first_at: std::collections::HashMap<[i64; 3], usize> = Default::default();
+    for (i, &p) in group.iter().enumerate() {
+        for x in &scene.polygons[p].vertices {
+            let key = (*x / tolerance).round().to_array().map(|v| v as i64);
+            let j = *first_at.entry(key).or_insert(i);
+            let (a, b) = (root(&mut parent, i), root(&mut parent, j));
+            parent[a.max(b)] = a.min(b);
+        }
+    }
+    let mut sets: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    for (i, &p) in group.iter().enumerate() {
+        let r = root(&mut parent, i);
+        sets.entry(r).or_default().push(p);
+    }
+    sets.into_values().filter(|s| s.len() > 1).collect()
+}
+
+/// The one shooter of cluster members `members` (each polygon with its unshot energy, Σ L·A RGB,
+/// of one sign: every channel ≥ 0, or every one ≤ 0; not all zero), owning no texels (the solver clears the members' own): it
+/// shoots their summed energy from the centroid of the member nearest their power-weighted
+/// centre, along that member's normal, with the rectangle around the members on their plane as
+/// its outline. `patches[p]` is polygon p's patch count. `None` when nothing is left to shoot.
+/// Its item-buffer side (`hemi_res`) and turn are the caller's to set (0 here).
+pub fn cluster_shooter(
+    scene: &Scene,
+    patches: &[u32],
+    members: &[(usize, Vec3)],
+) -> Option<Shooter> {
+    let weight = |e: Vec3| (e.x + e.y + e.z).abs() as f64;
+    let total: f64 = members.iter().map(|&(_, e)| weight(e)).sum();
+    if members.is_empty() || total <= 0.0 {
+        return None;
+    }
+    let centre = members.iter().fold(glam::DVec3::ZERO, |sum, &(p, e)| {
+        sum + scene.polygons[p].centroid.as_dvec3() * weight(e)
+    }) / total;
+    let centre = centre.as_vec3();
+    let lead = members.iter().map(|&(p, _)| p).min_by(|&a, &b| {
+        let d = |p: usize| scene.polygons[p].centroid.distance_squared(centre);
+        d(a).total_cmp(&d(b)).then(a.cmp(&b))
+    })?;
+    let polygon = &scene.polygons[lead];
+    let normal = polygon.normal;
+    // (u, v, normal) is right-handed, so the rectangle's corners in (u, v) order run
+    // counter-clockwise seen from the front.
+    let (u, v) = normal.any_orthonormal_pair();
+    let (mut lo, mut hi) = (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN));
+    for &(p, _) in members {
+        for &x in &scene.polygons[p].vertices {
+            let at = glam::Vec2::new(x.dot(u), x.dot(v));
+            lo = lo.min(at);
+            hi = hi.max(at);
+        }
+    }
+    let plane = normal * normal.dot(polygon.centroid);
+    let mut corners = [Vec3::ZERO; MAX_CORNERS];
+    for (c, (a, b)) in
+        corners
+            .iter_mut()
+            .zip([(lo.x, lo.y), (hi.x, lo.y), (hi.x, hi.y), (lo.x, hi.y)])
+    {
+        *c = plane + u * a + v * b;
+    }
+    let energy = members.iter().fold(Vec3::ZERO, |sum, &(_, e)| sum + e);
+    Some(Shooter {
+        polygon: lead,
+        texels: [0; 4],
+        patches: members.iter().map(|&(p, _)| patches[p]).sum(),
+        position: polygon.centroid,
+        normal,
+        energy,
+        corners,
+        corner_count: 4,
+        area: (hi.x - lo.x) * (hi.y - lo.y),
+        remainder: Vec3::ZERO,
+        hemi_res: 0,
+        turn: 0.0,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::patches::{PatchLayout, Resolution};
+    use crate::scene::{Polygon, Scene};
+
+    /// A floor of `n` × `n` quads of 1×1 (each its own polygon, as faces of different
+    /// materials stay after merging), and a light above it.
+    fn floor(n: usize) -> Scene {
+        let quad = |x: f32, z: f32, y: f32| {
+            vec![
+                Vec3::new(x, y, z),
+                Vec3::new(x, y, z + 1.0),
+                Vec3::new(x + 1.0, y, z + 1.0),
+                Vec3::new(x + 1.0, y, z),
+            ]
+        };
+        let mut polygons: Vec<Polygon> = (0..n * n)
+            .map(|i| Polygon::new(quad((i % n) as f32, (i / n) as f32, 0.0), 0, "floor".into()))
+            .collect::<Option<_>>()
+            .unwrap();
+        let mut light = quad(0.0, 0.0, 5.0);
+        light.reverse();
+        polygons.push(Polygon::new(light, 1, "light".into()).unwrap());
+        with_light(polygons)
+    }
+
+    /// A scene of `polygons` whose material 1 is a light.
+    fn with_light(polygons: Vec<Polygon>) -> Scene {
+        let mut scene = crate::scene::test_scene(polygons);
+        scene.materials.push(crate::scene::Material {
+            name: "light".into(),
+            kd: Vec3::ZERO,
+            ke: Vec3::ONE,
+        });
+        scene
+    }
+
+    #[test]
+    fn small_coplanar_polygons_in_one_square_form_a_cluster() {
+        let scene = floor(8);
+        let layout = PatchLayout::new(&scene, Resolution::PatchSize(1.0));
+        let clusters = Clusters::new(&scene, &layout, 2, 4);
+        // 64 floor quads of one patch each, in squares of 4×4 patches: 4 coarse clusters of 16
+        // (or more squares where the grid does not line up with the floor), 16 or more fine
+        // ones in squares of 2×2; the light alone.
+        assert_eq!(clusters.clustered_polygons(), 64);
+        assert!((4..=9).contains(&clusters.count()), "{}", clusters.count());
+        assert!(
+            (16..=25).contains(&clusters.fine_count()),
+            "{}",
+            clusters.fine_count()
+        );
+        let light = scene.polygons.len() - 1;
+        assert!(clusters.members_of(light, true).is_none());
+        let coarse = clusters.members_of(0, true).unwrap();
+        let fine = clusters.members_of(0, false).unwrap();
+        assert!(fine.contains(&0) && fine.iter().all(|p| coarse.contains(p)));
+        assert!(fine.len() < coarse.len());
+        assert_eq!(Clusters::new(&scene, &layout, 2, 0).count(), 0);
+    }
+
+    #[test]
+    fn polygons_that_do_not_touch_do_not_cluster() {
+        // Every other quad of a row of 8 (as tiles on both sides of walls standing on the
+        // floor): none touches another, so none clusters, though all lie in one square.
+        let all = floor(8);
+        let scene = with_light(
+            (0..8)
+                .step_by(2)
+                .chain(std::iter::once(all.polygons.len() - 1))
+                .map(|p| all.polygons[p].clone())
+                .collect(),
+        );
+        let layout = PatchLayout::new(&scene, Resolution::PatchSize(1.0));
+        assert_eq!(Clusters::new(&scene, &layout, 0, 8).clustered_polygons(), 0);
+    }
+
+    #[test]
+    fn a_cluster_shoots_its_members_energy_from_a_member_within_their_rectangle() {
+        let scene = floor(4);
+        let layout = PatchLayout::new(&scene, Resolution::PatchSize(1.0));
+        let members = [(0, Vec3::ONE), (5, Vec3::splat(3.0)), (15, Vec3::ONE)];
+        let s = cluster_shooter(&scene, &layout.patches_per_polygon, &members).unwrap();
+        assert_eq!(s.energy, Vec3::splat(5.0));
+        assert_eq!(s.patches, 3);
+        // The power-weighted centre is nearest polygon 5's centroid.
+        assert_eq!(s.polygon, 5);
+        assert_eq!(s.position, scene.polygons[5].centroid);
+        // The rectangle around quads 0 (0..1 × 0..1) and 15 (3..4 × 3..4): 4 × 4, on the floor,
+        // counter-clockwise seen from above.
+        assert!((s.area - 16.0).abs() < 1e-4, "{}", s.area);
+        let c = &s.corners[..4];
+        assert!(c.iter().all(|p| p.y.abs() < 1e-5));
+        let turn = (c[1] - c[0]).cross(c[2] - c[1]);
+        assert!(turn.dot(Vec3::Y) > 0.0);
+        assert!(cluster_shooter(&scene, &[1; 17], &[]).is_none());
+    }
+}
