@@ -283,3 +283,50 @@ fn a_reader_that_stops_early_ends_the_report_not_the_command() {
     assert!(plot.is_file(), "the plot was not written after the report");
     assert!(std::fs::metadata(&plot).unwrap().len() > 1000);
 }
+
+/// Without `--max-shots`, a scene of more than 10,000 polygons gets a shot per polygon (a scene
+/// of many small polygons needs about that many; Lost Empire reached 1 % at shot 33,875), and the
+/// run says so; `--max-shots` still sets it.
+#[test]
+fn the_shot_limit_grows_with_the_polygons_unless_given() {
+    let dir = tempfile::tempdir().unwrap();
+    // 105 × 100 unit quads kept apart, under a lamp.
+    let mut obj = String::from("# keep-faces\nmtllib m.mtl\nusemtl grey\n");
+    let (nx, nz) = (105, 100);
+    for z in 0..nz {
+        for x in 0..nx {
+            obj += &format!(
+                "v {x} 0 {z}\nv {x} 0 {z1}\nv {x1} 0 {z1}\nv {x1} 0 {z}\nf -4 -3 -2 -1\n",
+                x1 = x + 1,
+                z1 = z + 1
+            );
+        }
+    }
+    obj += "usemtl lamp\nv 0 9 0\nv 105 9 0\nv 105 9 100\nv 0 9 100\nf -4 -3 -2 -1\n";
+    std::fs::write(dir.path().join("tiles.obj"), obj).unwrap();
+    std::fs::write(
+        dir.path().join("m.mtl"),
+        "newmtl grey\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 1 1 1\n",
+    )
+    .unwrap();
+    let max_shots = |extra: &[&str]| {
+        let mut args = vec!["solve", "tiles.obj", "--threshold", "0.9", "--out", "out"];
+        args.extend_from_slice(extra);
+        let out = radiosity(&args, dir.path());
+        assert!(out.status.success(), "{}", stderr(&out));
+        let stats: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(dir.path().join("out/stats.json")).unwrap(),
+        )
+        .unwrap();
+        (stats["max_shots"].as_u64().unwrap(), stderr(&out))
+    };
+    let (limit, said) = max_shots(&[]);
+    assert_eq!(limit, 10_501);
+    assert!(
+        said.contains("shot limit: 10501 (one per polygon"),
+        "{said}"
+    );
+    let (limit, said) = max_shots(&["--max-shots", "20"]);
+    assert_eq!(limit, 20);
+    assert!(!said.contains("shot limit"), "{said}");
+}

@@ -41,14 +41,14 @@ pub struct SolveArgs {
     /// accurate 0.003.
     #[arg(long, value_parser = values::threshold, allow_hyphen_values = true)]
     pub threshold: Option<f32>,
-    /// Stop after this many shots at most (0 to 1,000,000; 0: the emitters alone).
+    /// Stop after this many shots at most (0 to 1,000,000; 0: the emitters alone). Default:
+    /// 10,000, or one per polygon on scenes of more polygons.
     #[arg(
         long,
-        default_value_t = 10_000,
         value_parser = value_parser!(u32).range(0..=values::MAX_SHOTS as i64),
         allow_hyphen_values = true,
     )]
-    pub max_shots: u32,
+    pub max_shots: Option<u32>,
     /// Aim at about this many patches, 1 to 1,048,576 (default, unless the scene sets a patch
     /// size: 4096, plus 2 per polygon on scenes of more than 512 polygons).
     #[arg(
@@ -227,7 +227,7 @@ impl SolveArgs {
             .unwrap_or(base.min_hemi_res.min(small_hemi_res));
         SolveOptions {
             threshold: self.threshold.unwrap_or(base.threshold),
-            max_shots: self.max_shots,
+            max_shots: self.max_shots.unwrap_or(base.max_shots),
             hemi_res,
             tessellation: self.tessellate.unwrap_or(base.tessellation),
             shooter_cell: self.shooter_cell.unwrap_or(base.shooter_cell),
@@ -341,7 +341,16 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     let layout = lay_out(args, &scene)?;
     let ctx = GlContext::headless(args.backend)?;
     report_setup(&ctx.info, &scene, &layout);
-    let options = args.options();
+    let mut options = args.options();
+    if args.max_shots.is_none() {
+        options.max_shots = crate::solver::default_max_shots(scene.polygons.len());
+        if options.max_shots > SolveOptions::paper().max_shots {
+            eprintln!(
+                "shot limit: {} (one per polygon; --max-shots sets it)",
+                options.max_shots
+            );
+        }
+    }
     check_limits(args, &ctx, &layout, &options)?;
     let solution = solve(args, &ctx, &scene, &layout, &options, &set)?;
     solution
