@@ -9,15 +9,18 @@
 //! 10,000 shots). A small polygon's late shot carries little, and its neighbours in the same
 //! plane would shoot nearly the same thing from nearly the same place: one shot serves them all.
 //!
-//! What keeps it right: only small shots cluster (the cluster's unshot power below
-//! `SolveOptions::cut_above` of the emitted power, as coarse cells), never an emitter; the
+//! What keeps it right: a cluster is no larger than the cell a polygon of its shot's size would
+//! shoot from (the ordinary cell's side in any shot, `SolveOptions::cluster_cell` only in shots
+//! below `SolveOptions::cut_above`, as coarse cells), its members touch (tiles on both sides of
+//! a wall standing on them do not) and carry energy of one sign, and it is never an emitter; the
 //! cluster shoots from the centre of the member nearest its power-weighted centre (a point on a
 //! real surface, not between members, where a column standing among them could hide it), with
 //! the rectangle around its members as the outline of the polygon form factor (its energy spread
 //! over that rectangle: exact far away, and never more than it carried, by reciprocity); every
 //! member's unshot energy is cleared, and the shot's books count each member's energy as carried
-//! (`Solver::shoot_step`). Scenes whose polygons average more than [`AVERAGE_PATCHES`] patches
-//! (the Table 1 rooms, the Cornell boxes) have no clusters: their shots stay as they were.
+//! (`Solver::shoot_step`), so the balance judges it. Scenes whose polygons average more than
+//! [`AVERAGE_PATCHES`] patches (the Table 1 rooms, the Cornell boxes) have no clusters: their
+//! shots stay as they were.
 
 use super::{Shooter, MAX_CORNERS};
 use crate::patches::PatchLayout;

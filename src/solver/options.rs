@@ -108,11 +108,12 @@ pub struct SolveOptions {
     /// shot). Most of a large scene's passes are late shots of its largest polygons, each a
     /// fraction of a percent of the light; wider cells shoot them in a fraction of the passes.
     pub coarse_cell: u32,
-    /// Beyond the paper, for fewer shots on scenes of many small polygons: small coplanar
-    /// polygons within a square of `cluster_cell` × `cluster_cell` patches on their plane shoot
-    /// together, as one shooter, once their summed unshot power is below `cut_above`
-    /// (`clusters.rs`; only in scenes whose polygons average at most
-    /// `clusters::AVERAGE_PATCHES` patches). 0: every polygon shoots alone.
+    /// Beyond the paper, for fewer shots on scenes of many small polygons: small touching
+    /// coplanar polygons shoot together, as one shooter, within squares of `shooter_cell`
+    /// patches on their plane in any shot, and of `cluster_cell` × `cluster_cell` patches once
+    /// their summed unshot power is below `cut_above` (`clusters.rs`; only in scenes whose
+    /// polygons average at most `clusters::AVERAGE_PATCHES` patches). 0: every polygon shoots
+    /// alone.
     pub cluster_cell: u32,
 }
 
@@ -155,8 +156,9 @@ impl SolveOptions {
     ///   carrying over [`SMALL_SHOT`], falling with the cube root of the share from 128² to 16²)
     ///   and turned shot by shot, [`MAX_SHOOTERS_PER_PASS`] shooters per reconstruction pass,
     ///   and the smaller shots from cells of [`COARSE_CELL`] patches (cut down to 4×4 at contacts);
-    ///   in scenes of many small polygons, small coplanar neighbours within [`CLUSTER_CELL`] patches
-    ///   shoot their small shots together (`clusters.rs`);
+    ///   in scenes of many small polygons, small touching coplanar neighbours shoot together,
+    ///   within squares of the cell (4 patches), and of [`CLUSTER_CELL`] in small shots
+    ///   (`clusters.rs`);
     /// - the stopping rule at [`DEFAULT_THRESHOLD`], where every region of the Cornell box lands
     ///   within 3 % of a path-traced reference (`tests/path_traced.rs`).
     pub fn accurate() -> Self {

@@ -86,7 +86,7 @@ pub struct Solver<'a, B: Backend> {
     unshot_ceiling: f64,
     /// The ambient estimate, when overshooting (`SolveOptions::overshoot`).
     overshoot: Option<Overshoot>,
-    /// Small coplanar polygons that shoot their small shots together
+    /// Small coplanar polygons that shoot together
     /// (`SolveOptions::cluster_cell`), and how many such shots were made.
     clusters: Clusters,
     cluster_shots: u32,
