@@ -10,6 +10,8 @@
 //!
 //! Needs `apitrace` (Debian: `apt-get install apitrace`; `.ci/run` installs it).
 
+mod common;
+
 use std::collections::{BTreeMap, BTreeSet};
 use std::process::Command;
 
@@ -151,22 +153,21 @@ fn read_trace(dump: &str) -> Trace {
 /// Trace `radiosity solve --mode MODE --max-shots 3` and check it; returns the trace.
 fn trace_solve(mode: &str) -> Trace {
     let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("solve.trace");
+    trace_run(mode, dir.path(), &["--mode", mode, "--max-shots", "3"])
+}
+
+/// Trace `radiosity solve ARGS` on EGL (a 64×64 image into `dir`/out) and check what every
+/// solve must hold (`check_common`, named `what`); returns the trace.
+fn trace_run(what: &str, dir: &std::path::Path, args: &[&str]) -> Trace {
+    let file = dir.join("solve.trace");
     let status = Command::new("apitrace")
         .args(["trace", "--api", "egl", "-o"])
         .arg(&file)
         .arg(env!("CARGO_BIN_EXE_radiosity"))
-        .args([
-            "solve",
-            "--backend",
-            "egl",
-            "--mode",
-            mode,
-            "--max-shots",
-            "3",
-        ])
+        .args(["solve", "--backend", "egl"])
+        .args(args)
         .args(["--size", "64x64", "--out"])
-        .arg(dir.path().join("out"))
+        .arg(dir.join("out"))
         .output()
         .expect("apitrace runs (Debian: apt-get install apitrace)");
     assert!(
@@ -181,7 +182,7 @@ fn trace_solve(mode: &str) -> Trace {
         .unwrap();
     assert!(dump.status.success(), "apitrace dump failed");
     let trace = read_trace(&String::from_utf8_lossy(&dump.stdout));
-    check_common(mode, &trace);
+    check_common(what, &trace);
     trace
 }
 
@@ -343,4 +344,27 @@ fn the_papers_mode_follows_the_papers_data_flow() {
 fn the_accurate_mode_has_the_same_data_flow_and_no_dead_copy() {
     let t = trace_solve("accurate");
     check_shots("accurate", &t, None);
+}
+
+/// Clusters (beyond the paper) clear their members' unshot energy before a shot's passes, by
+/// scissored clears of the renderbuffer and one copy into the unshot lightmap: that copy, too,
+/// comes from the renderbuffer FBO and is read before anything overwrites it (a copy per
+/// member's rectangle was overwritten unread by the next).
+#[test]
+fn cluster_shots_copy_nothing_that_is_not_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let room = common::write_tiled_room(dir.path(), 32);
+    let t = trace_run(
+        "clusters",
+        dir.path(),
+        &[room.to_str().unwrap(), "--max-shots", "60"],
+    );
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("out/stats.json")).unwrap())
+            .unwrap();
+    assert!(
+        stats["cluster_shots"].as_u64().unwrap() > 0,
+        "no cluster shot"
+    );
+    check_shots("clusters", &t, None);
 }

@@ -130,3 +130,68 @@ pub fn zigzag_crown(before: usize, corners: usize) -> String {
     }
     s + "\n"
 }
+
+/// Write a closed room of `tiles` × 12 × `tiles` units into `dir` (room.obj, room.mtl; patch
+/// size 1): its floor unit tiles in a checkerboard of two greys (so that merging leaves them
+/// apart, as a voxel world's faces), walls and ceiling one polygon each, a 4×4 light in the middle
+/// of the ceiling. Returns the OBJ's path. Polygons: the tiles, then the ceiling, the walls (the
+/// third red, the fifth green) and the lamp.
+pub fn write_tiled_room(dir: &std::path::Path, tiles: usize) -> PathBuf {
+    let n = tiles as f32;
+    let mut obj = String::from("# patch-size 1\nmtllib room.mtl\n");
+    let mut quads: Vec<([[f32; 3]; 4], &str)> = Vec::new();
+    for z in 0..tiles {
+        for x in 0..tiles {
+            let (x, z) = (x as f32, z as f32);
+            let m = if ((x + z) as usize).is_multiple_of(2) {
+                "dark"
+            } else {
+                "light_grey"
+            };
+            quads.push((
+                [
+                    [x, 0.0, z],
+                    [x, 0.0, z + 1.0],
+                    [x + 1.0, 0.0, z + 1.0],
+                    [x + 1.0, 0.0, z],
+                ],
+                m,
+            ));
+        }
+    }
+    let h = 12.0;
+    quads.extend([
+        // Ceiling (facing down), walls facing in.
+        ([[0.0, h, 0.0], [n, h, 0.0], [n, h, n], [0.0, h, n]], "wall"),
+        (
+            [[0.0, 0.0, 0.0], [n, 0.0, 0.0], [n, h, 0.0], [0.0, h, 0.0]],
+            "wall",
+        ),
+        ([[0.0, 0.0, n], [0.0, h, n], [n, h, n], [n, 0.0, n]], "red"),
+        (
+            [[0.0, 0.0, 0.0], [0.0, h, 0.0], [0.0, h, n], [0.0, 0.0, n]],
+            "wall",
+        ),
+        (
+            [[n, 0.0, 0.0], [n, 0.0, n], [n, h, n], [n, h, 0.0]],
+            "green",
+        ),
+    ]);
+    let (a, b) = (n / 2.0 - 2.0, n / 2.0 + 2.0);
+    let y = h - 0.01;
+    quads.push(([[a, y, a], [b, y, a], [b, y, b], [a, y, b]], "lamp"));
+    let mut v = 1;
+    for (corners, material) in &quads {
+        for [x, y, z] in corners {
+            obj += &format!("v {x} {y} {z}\n");
+        }
+        obj += &format!("usemtl {material}\nf {} {} {} {}\n", v, v + 1, v + 2, v + 3);
+        v += 4;
+    }
+    let mtl = "newmtl dark\nKd 0.3 0.3 0.3\nnewmtl light_grey\nKd 0.6 0.6 0.6\n\
+               newmtl wall\nKd 0.7 0.7 0.7\nnewmtl red\nKd 0.6 0.1 0.1\n\
+               newmtl green\nKd 0.1 0.6 0.1\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n";
+    std::fs::write(dir.join("room.obj"), obj).unwrap();
+    std::fs::write(dir.join("room.mtl"), mtl).unwrap();
+    dir.join("room.obj")
+}

@@ -445,8 +445,10 @@ impl ReconstructionPass {
 
     /// Beyond the paper (clusters): zero the unshot radiance (RGB; alpha, the polygon ID, kept)
     /// of the texel rectangles `rects` in the unshot renderbuffer, by scissored clears, and
-    /// copy them into the unshot texture (glCopyTexSubImage2D, as `copy_into`), so that the
-    /// two agree whether or not the next pass draws those texels.
+    /// copy the rectangle around them into the unshot texture (one glCopyTexSubImage2D, as
+    /// `copy_into`; outside `rects` the renderbuffer already holds what the texture holds, see
+    /// `load_from`), so that the two agree whether or not the next pass draws those texels,
+    /// and the next pass reads the copy before anything overwrites it.
     pub fn clear_unshot(
         &self,
         ctx: &GlContext,
@@ -466,10 +468,19 @@ impl ReconstructionPass {
             gl.disable(glow::SCISSOR_TEST);
             gl.color_mask(true, true, true, true);
         }
-        for &rect in rects {
-            self.target
-                .fbo
-                .copy_rect_to_texture(glow::COLOR_ATTACHMENT1, &lightmaps.unshot, rect);
+        if let Some(around) = rects.iter().copied().reduce(|a, b| {
+            [
+                a[0].min(b[0]),
+                a[1].min(b[1]),
+                a[2].max(b[2]),
+                a[3].max(b[3]),
+            ]
+        }) {
+            self.target.fbo.copy_rect_to_texture(
+                glow::COLOR_ATTACHMENT1,
+                &lightmaps.unshot,
+                around,
+            );
         }
         unsafe {
             gl.read_buffer(glow::COLOR_ATTACHMENT0);
