@@ -157,6 +157,10 @@ float EdgeTerm(vec3 a, vec3 b)
 // CORNERS (defined by the host for quadrilateral shooters, the rooms' usual case): the corner
 // count is known when compiling, so the loops unroll and every corner is a uniform read once;
 // with a count known only at run time llvmpipe fetches ShootCorners[i] lane by lane.
+// Within PlaneSlack of a plane counts as on it: a receiver on the shooter's plane, or a shooter
+// in the receiver's tangent plane, gets 0 (seen edge-on: exact), where the contour integral of
+// float-noise heights reads up to 1 (the back-to-back faces of a double-sided quad, crossed
+// quads; src/solver/form_factor.rs, `polygon`).
 #ifndef CORNERS
 #define CORNERS 0
 #endif
@@ -168,7 +172,7 @@ float EdgeTerm(vec3 a, vec3 b)
 float PolygonFormFactor(int k)
 {
     int c0 = 12 * k;   // shooter k's first corner
-    if (dot(ShootNormal[k], RecvPos - ShootCorners[c0]) <= 0.0)
+    if (dot(ShootNormal[k], RecvPos - ShootCorners[c0]) <= PlaneSlack)
         return 0.0;
     vec3 a = ShootCorners[c0 + CORNER_COUNT - 1] - RecvPos;
     float sum = 0.0;
@@ -180,11 +184,13 @@ float PolygonFormFactor(int k)
     }
 #else
     float da = dot(a, RecvNormal);
+    float highest = da;
     vec3 exit_point = vec3(0.0);   // both stay zero when nothing is clipped: a null closing edge
     vec3 entry_point = vec3(0.0);
     for (int i = 0; i < CORNER_COUNT; ++i) {
         vec3 b = ShootCorners[c0 + i] - RecvPos;
         float db = dot(b, RecvNormal);
+        highest = max(highest, db);
         bool above_a = da > 0.0;
         bool crossing = above_a != (db > 0.0);
         vec3 p = a + (b - a) * (crossing ? da / (da - db) : 0.0);
@@ -196,6 +202,7 @@ float PolygonFormFactor(int k)
         da = db;
     }
     sum += EdgeTerm(exit_point, entry_point);
+    sum = highest > PlaneSlack ? sum : 0.0;
 #endif
     return min(abs(sum) / (2.0 * pi), 1.0);
 }

@@ -160,3 +160,77 @@ fn every_shot_of_a_non_planar_face_is_within_its_bound_on_both_solvers() {
         "{gpu_worst} {cpu_worst}"
     );
 }
+
+/// A plant as exporters write one (Lost Empire's flowers): two quads crossed through each
+/// other's centres, each given twice, back to back, one patch each, on a floor under a lamp.
+/// The form factor at a patch centre on the shooter's plane was the contour integral of
+/// float-noise heights: the back face read 1, the crossing quad 0.5, and those shots reflected
+/// up to 3.7 times what they carried. Now a receiver on the shooter's plane gets nothing (the
+/// exact value); the books are walked with shots left as they were (`conserve` off), on both
+/// solvers, so that the scaling back cannot hide the cause.
+#[test]
+fn crossed_double_sided_quads_create_no_energy_on_both_solvers() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    std::fs::write(
+        d.join("plant.mtl"),
+        "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl flower\nKd 0.99 0.99 0.05\n\
+         newmtl lamp\nKd 0 0 0\nKe 10 10 10\n",
+    )
+    .unwrap();
+    // Quad A along (1, 0, 1), quad B along (1, 0, -1), crossing at (0.3, 0.5, 0.7): 0.9 of a
+    // block along each axis, as Mineways writes them, at coordinates that are not binary
+    // fractions (a texel centre lands on the other face's plane give or take float noise, as in
+    // Lost Empire). Each face, then its reverse.
+    let (cx, cz, h) = (0.3f32, 0.7f32, 0.45f32);
+    let v = |x: f32, y: f32, z: f32| format!("v {} {y} {}\n", cx + x, cz + z);
+    let obj = String::from(
+        "mtllib plant.mtl\n\
+         v -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\n\
+         v -0.5 3 -0.5\nv 0.5 3 -0.5\nv 0.5 3 0.5\nv -0.5 3 0.5\n",
+    ) + &[
+        v(-h, 0.0, -h),
+        v(h, 0.0, h),
+        v(h, 1.0, h),
+        v(-h, 1.0, -h),
+        v(-h, 0.0, h),
+        v(h, 0.0, -h),
+        v(h, 1.0, -h),
+        v(-h, 1.0, h),
+    ]
+    .concat()
+        + "usemtl floor\nf 4 3 2 1\n\
+           usemtl lamp\nf 5 6 7 8\n\
+           usemtl flower\nf 9 10 11 12\nf 12 11 10 9\nf 13 14 15 16\nf 16 15 14 13\n";
+    std::fs::write(d.join("plant.obj"), obj).unwrap();
+    let scene = load_obj(&d.join("plant.obj")).unwrap();
+    assert_eq!(scene.polygons.len(), 6, "the back faces are kept");
+    let layout = PatchLayout::new(&scene, Resolution::PatchSize(1.0));
+    // One shooter per step, so that each flower face's shot has books of its own.
+    let options = SolveOptions {
+        conserve: false,
+        shooters_per_pass: 1,
+        max_shots: 40,
+        ..SolveOptions::accurate()
+    };
+    let ctx = context();
+    let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options.clone()).unwrap();
+    gpu.solve(|_| {}).unwrap();
+    let mut cpu = CpuSolver::new(&scene, &layout, options, 0).unwrap();
+    cpu.solve(|_| {}).unwrap();
+    for (name, history, emitted) in [
+        ("plant, GPU", gpu.history(), gpu.emitted_power()),
+        ("plant, CPU", cpu.history(), cpu.emitted_power()),
+    ] {
+        // The flowers shot: the walk covers the case.
+        let flowers = history
+            .iter()
+            .filter(|r| {
+                scene.material(&scene.polygons[r.shooter]).name == "flower"
+                    && r.carried_power > 1e-3 * emitted
+            })
+            .count();
+        assert!(flowers >= 4, "{name}: {flowers} shots of the flowers");
+        walk(name, history, emitted);
+    }
+}

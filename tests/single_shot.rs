@@ -114,7 +114,14 @@ fn expected(
             }
             FormFactorKind::Polygon => {
                 let outline = &s.corners[..s.corner_count];
-                s.energy / s.area * form_factor::polygon(pos, polygon.normal, outline, s.normal)
+                s.energy / s.area
+                    * form_factor::polygon(
+                        pos,
+                        polygon.normal,
+                        outline,
+                        s.normal,
+                        scene.plane_slack(),
+                    )
             }
         };
         if v {

@@ -60,6 +60,7 @@ pub fn solve(scene: &Scene, patches: &[Patch]) -> Vec<Vec3> {
                 normal(&patches[i]),
                 &patches[j].outline,
                 normal(&patches[j]),
+                scene.plane_slack(),
             )
         })
         .collect();

@@ -23,6 +23,8 @@ pub type CpuSolver<'a> = Solver<'a, CpuBackend<'a>>;
 pub struct CpuBackend<'a> {
     layout: &'a PatchLayout,
     form_factor: super::FormFactorKind,
+    /// `Scene::plane_slack`: within it of a plane counts as on it.
+    slack: f32,
     bvh: Bvh,
     receivers: Vec<Receiver>,
     /// ΔL of every receiver from the current shooter.
@@ -96,6 +98,7 @@ impl<'a> CpuBackend<'a> {
         Ok(CpuBackend {
             layout,
             form_factor: options.form_factor,
+            slack: scene.plane_slack(),
             bvh: Bvh::new(scene),
             deltas: vec![Vec3::ZERO; receivers.len()],
             receivers,
@@ -124,6 +127,7 @@ impl Backend for CpuBackend<'_> {
 
     fn reconstruction(&mut self, shooters: &[Shooter]) -> Result<(), SolveError> {
         let (bvh, receivers, kind) = (&self.bvh, &self.receivers, self.form_factor);
+        let slack = self.slack;
         let deltas = &mut self.deltas;
         // Each receiver's ΔL from every shooter, summed in the shooters' order (as the shader).
         self.pool.install(|| {
@@ -132,7 +136,7 @@ impl Backend for CpuBackend<'_> {
                 .zip(receivers.par_iter())
                 .for_each(|(d, r)| {
                     *d = shooters.iter().fold(Vec3::ZERO, |sum, s| {
-                        sum + reconstruction::delta(r, s, kind, bvh)
+                        sum + reconstruction::delta(r, s, kind, slack, bvh)
                     })
                 });
         });

@@ -20,8 +20,9 @@ pub struct Receiver {
     pub rho: Vec3,
 }
 
-/// ΔL at `r` from `s` (zero on the shooter's own polygon: a planar shooter sends it nothing).
-pub fn delta(r: &Receiver, s: &Shooter, kind: FormFactorKind, bvh: &Bvh) -> Vec3 {
+/// ΔL at `r` from `s` (zero on the shooter's own polygon: a planar shooter sends it nothing);
+/// `slack`: `Scene::plane_slack`, for the polygon factor.
+pub fn delta(r: &Receiver, s: &Shooter, kind: FormFactorKind, slack: f32, bvh: &Bvh) -> Vec3 {
     if r.polygon as usize == s.polygon {
         return Vec3::ZERO;
     }
@@ -31,7 +32,7 @@ pub fn delta(r: &Receiver, s: &Shooter, kind: FormFactorKind, bvh: &Bvh) -> Vec3
         }
         FormFactorKind::Polygon => {
             let outline = &s.corners[..s.corner_count];
-            s.energy / s.area * form_factor::polygon(r.centre, r.normal, outline, s.normal)
+            s.energy / s.area * form_factor::polygon(r.centre, r.normal, outline, s.normal, slack)
         }
     };
     // Cast the shadow ray only where there is something to shadow.
