@@ -68,6 +68,22 @@ fn third_party(path: &str) -> PathBuf {
         .join(path)
 }
 
+/// A third-party scene with `material` made an emitter of radiance `ke` (`--emit`).
+fn third_party_lit(path: &str, material: &str, ke: [f32; 3]) -> Scene {
+    let emit = vec![gpu_radiosity::scene::Emission {
+        material: material.into(),
+        ke,
+    }];
+    load_obj_with(
+        &third_party(path),
+        &LoadOptions {
+            emit,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
+
 #[test]
 fn every_shot_of_the_cornell_boxes_is_within_its_bound() {
     let cornell = load("cornell");
@@ -84,17 +100,11 @@ fn every_shot_of_the_cornell_boxes_is_within_its_bound() {
         &PatchLayout::new(&mcguire, Resolution::Patches(4096)),
     );
     // The OBJ library's box, its light made an emitter as its README says.
-    let tiny = load_obj_with(
-        &third_party("tinyobjloader-cornell-box/cornell_box.obj"),
-        &LoadOptions {
-            emit: vec![gpu_radiosity::scene::Emission {
-                material: "light".into(),
-                ke: [20.0; 3],
-            }],
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let tiny = third_party_lit(
+        "tinyobjloader-cornell-box/cornell_box.obj",
+        "light",
+        [20.0; 3],
+    );
     default_solve(
         "tinyobjloader cornell_box",
         &tiny,
@@ -244,17 +254,7 @@ fn crossed_double_sided_quads_create_no_energy_on_both_solvers() {
 /// float noise, which cost 33,875 shots instead of 14,752).
 #[test]
 fn lost_empire_solves_to_one_percent_and_every_step_is_within_its_bound() {
-    let scene = load_obj_with(
-        &third_party("lost-empire/lost_empire.obj"),
-        &LoadOptions {
-            emit: vec![gpu_radiosity::scene::Emission {
-                material: "Torch".into(),
-                ke: [5.0, 4.0, 2.0],
-            }],
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let scene = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0]);
     let layout = PatchLayout::new(
         &scene,
         gpu_radiosity::pipeline::resolution(&scene, None, None),
