@@ -14,11 +14,15 @@
 //! `Tuning` switch (`-marking_pass`, `-plates`, …).
 //! Switches of `Tuning` leave the answer as it is, so both solvers take the same shots; options
 //! that change the answer may make them take different ones.
+//!
+//! After B, optional `emit=NAME=R,G,B` (repeatable, as `--emit`) and `patches=N` (as
+//! `--patches`; default: `radiosity solve`'s budget for the scene), for third-party scenes:
+//! `… lost_empire.obj 2000 accurate accurate,-plates emit=Torch=5,4,2`.
 
 use glow::HasContext;
 use gpu_radiosity::gl::{BackendChoice, GlContext};
-use gpu_radiosity::patches::{PatchLayout, Resolution};
-use gpu_radiosity::scene::load_obj;
+use gpu_radiosity::pipeline;
+use gpu_radiosity::scene::{Emission, LoadOptions};
 use gpu_radiosity::solver::{GpuSolver, SolveOptions};
 use std::path::Path;
 use std::time::Instant;
@@ -67,16 +71,33 @@ fn configuration(changes: &str) -> SolveOptions {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    if args.len() != 5 {
-        eprintln!("usage: interleaved_ab SCENE.obj SHOTS A B (see examples/interleaved_ab.rs)");
+    if args.len() < 5 {
+        eprintln!(
+            "usage: interleaved_ab SCENE.obj SHOTS A B [emit=NAME=R,G,B]... [patches=N] \
+             (see examples/interleaved_ab.rs)"
+        );
         std::process::exit(2);
     }
-    let scene = load_obj(Path::new(&args[1])).expect("the scene loads");
+    let mut options = LoadOptions::default();
+    let mut patches = None;
+    for extra in &args[5..] {
+        if let Some(rule) = extra.strip_prefix("emit=") {
+            let (name, rgb) = rule.rsplit_once('=').expect("emit=NAME=R,G,B");
+            let ke: Vec<f32> = rgb.split(',').map(|v| v.parse().expect("R,G,B")).collect();
+            options.emit.push(Emission {
+                material: name.to_string(),
+                ke: [ke[0], ke[1], ke[2]],
+            });
+        } else if let Some(n) = extra.strip_prefix("patches=") {
+            patches = Some(n.parse().expect("patches=N: a count"));
+        } else {
+            panic!("unknown argument '{extra}' (see the file's comment)");
+        }
+    }
+    let (scene, _) =
+        pipeline::load_scene_with(Some(Path::new(&args[1])), &options).expect("the scene loads");
     let shots: u32 = args[2].parse().expect("SHOTS is a number");
-    let resolution = scene
-        .patch_size
-        .map_or(Resolution::Patches(4096), Resolution::PatchSize);
-    let layout = PatchLayout::new(&scene, resolution);
+    let layout = pipeline::lay_out(&scene, None, patches).expect("the atlas fits");
     let ctx = GlContext::headless(BackendChoice::Auto).expect("a GL 3.0 context");
     let mut solvers = [&args[3], &args[4]].map(|changes| {
         GpuSolver::new(&ctx, &scene, &layout, configuration(changes)).expect("the solver starts")
