@@ -22,7 +22,7 @@
 use glow::HasContext;
 use gpu_radiosity::gl::{BackendChoice, GlContext};
 use gpu_radiosity::pipeline;
-use gpu_radiosity::scene::{Emission, LoadOptions};
+use gpu_radiosity::scene::LoadOptions;
 use gpu_radiosity::solver::{GpuSolver, SolveOptions};
 use std::path::Path;
 use std::time::Instant;
@@ -82,12 +82,10 @@ fn main() {
     let mut patches = None;
     for extra in &args[5..] {
         if let Some(rule) = extra.strip_prefix("emit=") {
-            let (name, rgb) = rule.rsplit_once('=').expect("emit=NAME=R,G,B");
-            let ke: Vec<f32> = rgb.split(',').map(|v| v.parse().expect("R,G,B")).collect();
-            options.emit.push(Emission {
-                material: name.to_string(),
-                ke: [ke[0], ke[1], ke[2]],
-            });
+            // The same parser and checks as `radiosity solve --emit`.
+            options
+                .emit
+                .push(gpu_radiosity::cli::emission(rule).unwrap_or_else(|e| panic!("emit=: {e}")));
         } else if let Some(n) = extra.strip_prefix("patches=") {
             patches = Some(n.parse().expect("patches=N: a count"));
         } else {

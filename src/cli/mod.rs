@@ -18,6 +18,7 @@ mod view;
 use clap::{Parser, Subcommand};
 
 pub use solve::{run_solve, SolveArgs};
+pub use values::emission;
 
 /// The command line: a subcommand and the flags every subcommand takes.
 #[derive(Parser, Debug)]
