@@ -134,6 +134,16 @@ fn solve_refuses_values_out_of_range_with_the_range() {
             2,
             &["--smooth-angle", "0 ≤ DEG < 90"],
         ),
+        (
+            s(&["--shot-triangles", "-1"]),
+            2,
+            &["--shot-triangles", "invalid"],
+        ),
+        (
+            s(&["--shot-triangles", "1e9"]),
+            2,
+            &["--shot-triangles", "invalid"],
+        ),
         (s(&["--size", "0x10"]), 2, &["--size", "1x1"]),
         (s(&["--size", "20000x10"]), 2, &["--size", "16384x16384"]),
         (s(&["--eye", "1,2,nan"]), 2, &["--eye", "finite"]),

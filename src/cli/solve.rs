@@ -151,6 +151,11 @@ pub struct SolveArgs {
         allow_hyphen_values = true,
     )]
     pub cluster_cell: Option<u32>,
+    /// Beyond the paper, for large shooters in scenes of many triangles: a polygon's shot is
+    /// divided into at most N / (the scene's triangles) cells, at least 64, each a visibility
+    /// pass (0: no limit). Mode default: paper 0, accurate 50,000,000.
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub shot_triangles: Option<u64>,
     /// Make the material NAME emit light: emitted radiance R,G,B, as `Ke` in the MTL file (each 0
     /// to 1e15; 0,0,0 turns an emitter off). Repeatable.
     #[arg(long, value_name = "NAME=R,G,B", value_parser = values::emission, allow_hyphen_values = true)]
@@ -246,6 +251,7 @@ impl SolveArgs {
             cut_above: self.cut_above.unwrap_or(base.cut_above),
             coarse_cell: self.coarse_cell.unwrap_or(base.coarse_cell),
             cluster_cell: self.cluster_cell.unwrap_or(base.cluster_cell),
+            shot_triangles: self.shot_triangles.unwrap_or(base.shot_triangles),
         }
     }
 

@@ -115,6 +115,12 @@ pub struct SolveOptions {
     /// polygons average at most `clusters::AVERAGE_PATCHES` patches). 0: every polygon shoots
     /// alone.
     pub cluster_cell: u32,
+    /// Beyond the paper, for large shooters in scenes of many triangles: a polygon's shot has
+    /// at most this many triangles over the scene's triangle count cells (at least
+    /// `shooters::MIN_CELLS_PER_SHOT`), wider cells where its own would be more
+    /// (`shooters::widened_cell`): each cell is a visibility pass of the whole scene. 0: no
+    /// limit.
+    pub shot_triangles: u64,
 }
 
 impl SolveOptions {
@@ -142,6 +148,7 @@ impl SolveOptions {
             cut_above: 0.0,
             coarse_cell: 0,
             cluster_cell: 0,
+            shot_triangles: 0,
         }
     }
 
@@ -182,6 +189,7 @@ impl SolveOptions {
             cut_above: CUT_ABOVE,
             coarse_cell: COARSE_CELL,
             cluster_cell: CLUSTER_CELL,
+            shot_triangles: SHOT_TRIANGLES,
             ..Self::paper()
         }
     }
@@ -312,6 +320,12 @@ pub const COARSE_CELL: u32 = 16;
 /// (`SolveOptions::cluster_cell`): half the coarse cells' side, so that a cluster's one shot
 /// stands for at most 64 patches.
 pub const CLUSTER_CELL: u32 = 8;
+
+/// The triangles the visibility passes of one polygon's shot may draw together
+/// (`SolveOptions::shot_triangles`): 50 million, 150 cells on the conference room's 331,179
+/// triangles (a quarter of a second a pass there on llvmpipe), thousands on the Table 1 rooms,
+/// whose shots it leaves as they were.
+pub const SHOT_TRIANGLES: u64 = 50_000_000;
 
 /// The configurations `bench guard` compares: the paper-faithful one, each speed option alone
 /// on it, whole polygons with all of them, and the default.

@@ -90,6 +90,8 @@ pub struct Solver<'a, B: Backend> {
     /// (`SolveOptions::cluster_cell`), and how many such shots were made.
     clusters: Clusters,
     cluster_shots: u32,
+    /// The most cells a polygon's shot is divided into (`shooters::max_cells`).
+    max_cells: u32,
 }
 
 impl<'a, B: Backend> Solver<'a, B> {
@@ -105,6 +107,7 @@ impl<'a, B: Backend> Solver<'a, B> {
             .overshoot
             .then(|| Overshoot::new(scene, ledger.patches()));
         let clusters = Clusters::new(scene, layout, options.shooter_cell, options.cluster_cell);
+        let max_cells = shooters::max_cells(scene, options.shot_triangles);
         Ok(Solver {
             scene,
             layout,
@@ -117,6 +120,7 @@ impl<'a, B: Backend> Solver<'a, B> {
             overshoot,
             clusters,
             cluster_shots: 0,
+            max_cells,
             ledger,
         })
     }
@@ -505,6 +509,7 @@ impl<'a, B: Backend> Solver<'a, B> {
             self.ledger.totals(),
             p,
             cells,
+            self.max_cells,
         );
         let remainder = self
             .overshoot
