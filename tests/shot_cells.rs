@@ -71,6 +71,20 @@ fn tightest_cap(scene: &Scene) -> u64 {
     cap
 }
 
+/// Each lit polygon's mean radiance `capped` within `bound` (relative) of `uncapped`.
+fn assert_means_within(capped: &[f64], uncapped: &[f64], bound: f64) {
+    for (p, (&a, &b)) in capped.iter().zip(uncapped).enumerate() {
+        if b > 0.0 {
+            let difference = (a - b).abs() / b;
+            println!(
+                "polygon {p}: {a:.5} capped, {b:.5} uncapped ({:.3} %)",
+                100.0 * difference
+            );
+            assert!(difference < bound, "polygon {p}: {a} against {b}");
+        }
+    }
+}
+
 #[test]
 fn a_capped_emitter_lights_the_open_box_as_one_cell_per_patch_does() {
     let scene = load("box");
@@ -83,16 +97,7 @@ fn a_capped_emitter_lights_the_open_box_as_one_cell_per_patch_does() {
     // Cells of 4 × 4 patches: 7 × 7 of them.
     assert_eq!(capped, 49);
     assert!(capped_passes * 10 < alone_passes);
-    for (p, (&a, &b)) in means.iter().zip(&uncapped).enumerate() {
-        if b > 0.0 {
-            let difference = (a - b).abs() / b;
-            println!(
-                "polygon {p}: {a:.5} capped, {b:.5} uncapped ({:.3} %)",
-                100.0 * difference
-            );
-            assert!(difference < 0.002, "polygon {p}: {a} against {b}");
-        }
-    }
+    assert_means_within(&means, &uncapped, 0.002);
 }
 
 #[test]
@@ -102,16 +107,7 @@ fn a_capped_emitter_casts_the_same_shadow_within_a_few_percent() {
     let (capped, _, means, capped_atlas) = first_shot(&scene, tightest_cap(&scene));
     assert_eq!(alone, 15 * 15);
     assert!(capped <= MIN_CELLS_PER_SHOT as usize, "{capped}");
-    for (p, (&a, &b)) in means.iter().zip(&uncapped).enumerate() {
-        if b > 0.0 {
-            let difference = (a - b).abs() / b;
-            println!(
-                "polygon {p}: {a:.5} capped, {b:.5} uncapped ({:.3} %)",
-                100.0 * difference
-            );
-            assert!(difference < 0.015, "polygon {p}: {a} against {b}");
-        }
-    }
+    assert_means_within(&means, &uncapped, 0.015);
     // Patch by patch on the floor (polygon 0), the penumbra sampled by 64 points instead of 225:
     // each point stands for 1/64 of the light, so a penumbra patch steps by about 1/8 where an
     // edge hides a row of points (measured: the worst 16.6 % of the brightest patch, where the
