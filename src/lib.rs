@@ -17,6 +17,7 @@ pub mod gl;
 pub mod golden;
 pub mod patches;
 pub mod pipeline;
+pub mod random;
 pub mod scene;
 pub mod solver;
 pub mod validate;

@@ -15,15 +15,6 @@ use gpu_radiosity::solver::balance::TOLERANCE;
 use gpu_radiosity::solver::shooters::{max_cells, MIN_CELLS_PER_SHOT};
 use gpu_radiosity::solver::{GpuSolver, SolveOptions};
 
-/// The scene's triangles, as `max_cells` counts them.
-fn triangles(scene: &Scene) -> u64 {
-    scene
-        .polygons
-        .iter()
-        .map(|p| p.vertices.len() as u64 - 2)
-        .sum()
-}
-
 /// One shot of `scene`'s emitter with the default, its cells capped at `shot_triangles` (0: no
 /// cap): the emitter's shooters, the passes, and each polygon's mean radiance (RGB mean).
 fn first_shot(scene: &Scene, shot_triangles: u64) -> (usize, u32, Vec<f64>, Vec<f32>) {
@@ -66,7 +57,7 @@ fn first_shot(scene: &Scene, shot_triangles: u64) -> (usize, u32, Vec<f64>, Vec<
 
 /// `shot_triangles` that holds `scene`'s shots to the fewest cells allowed.
 fn tightest_cap(scene: &Scene) -> u64 {
-    let cap = triangles(scene) * MIN_CELLS_PER_SHOT as u64;
+    let cap = scene.triangle_count() * MIN_CELLS_PER_SHOT as u64;
     assert_eq!(max_cells(scene, cap), MIN_CELLS_PER_SHOT);
     cap
 }

@@ -278,6 +278,14 @@ impl Scene {
         &self.materials[polygon.material]
     }
 
+    /// The triangles of its polygons, n − 2 for each n-gon.
+    pub fn triangle_count(&self) -> u64 {
+        self.polygons
+            .iter()
+            .map(|p| p.vertices.len().saturating_sub(2) as u64)
+            .sum()
+    }
+
     /// Polygons whose material emits.
     pub fn light_count(&self) -> usize {
         self.polygons

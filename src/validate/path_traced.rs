@@ -14,6 +14,7 @@
 //! worst region.
 
 use crate::patches::PatchLayout;
+use crate::random::Rng;
 use crate::scene::Scene;
 use crate::solver::cpu::visibility::Bvh;
 use glam::Vec3;
@@ -88,22 +89,8 @@ pub enum PathTracedError {
     },
 }
 
-/// SplitMix64, its top 24 bits as a float in [0, 1): small, seedable and the same everywhere, so
-/// the reference (and the figures quoted from it) are reproducible.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-    }
-}
-
 fn cosine_direction(n: Vec3, rng: &mut Rng) -> Vec3 {
-    let (u1, u2) = (rng.next(), rng.next());
+    let (u1, u2) = (rng.uniform(), rng.uniform());
     let r = u1.sqrt();
     let phi = 2.0 * PI * u2;
     let (t, b) = n.any_orthonormal_pair();
@@ -122,7 +109,7 @@ fn direct(
 ) -> Vec3 {
     let l = &scene.polygons[light];
     let (a, b, d) = (l.vertices[0], l.vertices[1], l.vertices[3]);
-    let y = a + (b - a) * rng.next() + (d - a) * rng.next();
+    let y = a + (b - a) * rng.uniform() + (d - a) * rng.uniform();
     let w = y - x;
     let r2 = w.length_squared();
     let w = w / r2.sqrt();
@@ -142,7 +129,7 @@ fn radiance(scene: &Scene, bvh: &Bvh, light: usize, p: usize, x: Vec3, rng: &mut
         total += throughput * direct(scene, bvh, light, x, n, p as u32, rng);
         if bounce >= 3 {
             let survive = throughput.max_element().min(0.95);
-            if rng.next() >= survive {
+            if rng.uniform() >= survive {
                 break;
             }
             throughput /= survive;
@@ -202,7 +189,7 @@ fn polygon_reference(
         .into_par_iter()
         .map(|b| {
             // Seeded by polygon and batch: the same numbers on any thread count.
-            let mut rng = Rng(1000 * p as u64 + 7919 * b + 1);
+            let mut rng = Rng::new(1000 * p as u64 + 7919 * b + 1);
             let mut sum = Vec3::ZERO;
             for (_, x) in &centres {
                 for _ in 0..per_batch {
