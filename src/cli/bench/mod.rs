@@ -69,7 +69,8 @@ pub struct BenchArgs {
     )]
     pub repeat: u32,
     /// Only these rooms (simple, complex); `scenes`: only these third-party scenes
-    /// (cornell-box, tinyobjloader-cornell-box, lost-empire, conference-room; all by default).
+    /// (cornell-box, tinyobjloader-cornell-box, living-room, lost-empire, conference-room; all by
+    /// default).
     #[arg(
         long,
         value_delimiter = ',',

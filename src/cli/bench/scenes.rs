@@ -16,7 +16,7 @@ struct ThirdParty {
 }
 
 /// Every third-party scene, smallest first.
-const SCENES: [ThirdParty; 4] = [
+const SCENES: [ThirdParty; 5] = [
     ThirdParty {
         name: "cornell-box",
         obj: "cornell-box/CornellBox-Original.obj",
@@ -26,6 +26,11 @@ const SCENES: [ThirdParty; 4] = [
         name: "tinyobjloader-cornell-box",
         obj: "tinyobjloader-cornell-box/cornell_box.obj",
         emit: Some("light=20,20,20"),
+    },
+    ThirdParty {
+        name: "living-room",
+        obj: "living-room/living_room.obj",
+        emit: None,
     },
     ThirdParty {
         name: "lost-empire",
