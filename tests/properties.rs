@@ -385,7 +385,7 @@ fn check_patches(
         );
     }
     prop_assert_eq!(&counted, &layout.patches_per_polygon);
-    let total: u64 = layout.patches_per_polygon.iter().map(|&n| n as u64).sum();
+    let total = layout.patch_count();
     prop_assert_eq!(
         total,
         layout.owner.iter().filter(|&&o| o != 0).count() as u64

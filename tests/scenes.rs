@@ -53,7 +53,7 @@ fn patches_lie_inside_their_polygons_and_add_up() {
         let scene = load(name);
         for target in [100, 1000, 5000] {
             let layout = PatchLayout::new(&scene, Resolution::Patches(target));
-            let total: u64 = layout.patches_per_polygon.iter().map(|&n| n as u64).sum();
+            let total = layout.patch_count();
             assert_eq!(
                 total,
                 layout.owner.iter().filter(|&&o| o > 0).count() as u64

@@ -272,7 +272,7 @@ fn lost_empire_solves_to_one_percent_and_every_step_is_within_its_bound() {
         "Lost Empire: {} polygons, {} patches, {} shots in {steps} steps, {corrections} scaled back, \
          {:.4} unshot",
         scene.polygons.len(),
-        layout.patches_per_polygon.iter().map(|&p| p as u64).sum::<u64>(),
+        layout.patch_count(),
         solver.shots(),
         solver.unshot_fraction()
     );
@@ -298,19 +298,12 @@ fn living_room_loads_as_published_and_its_first_shots_keep_their_books() {
     let scene = load_obj(&third_party("living-room/living_room.obj")).unwrap();
     assert_eq!(scene.faces, 28_650);
     assert_eq!(scene.polygons.len(), 23_341);
-    let emitters: Vec<_> = scene
-        .materials
-        .iter()
-        .filter(|m| m.is_emitter())
-        .map(|m| m.name.as_str())
-        .collect();
-    assert_eq!(emitters, ["BackLight"]);
+    assert_eq!(scene.emitting_materials(), ["BackLight"]);
     let layout = PatchLayout::new(
         &scene,
         gpu_radiosity::pipeline::resolution(&scene, None, None),
     );
-    let patches: u64 = layout.patches_per_polygon.iter().map(|&p| p as u64).sum();
-    assert_eq!(patches, 41_342);
+    assert_eq!(layout.patch_count(), 41_342);
     // The walls: one polygon each, many patches (not one texel per face).
     let widest = layout.patches_per_polygon.iter().max().copied().unwrap();
     assert!(widest >= 200, "largest polygon: {widest} patches");
@@ -323,7 +316,7 @@ fn living_room_loads_as_published_and_its_first_shots_keep_their_books() {
     let mut solver = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
     solver.solve(|_| {}).unwrap();
     println!(
-        "living room: {} shots, {:.4} unshot",
+        "living room: largest polygon {widest} patches, {} shots, {:.4} unshot",
         solver.shots(),
         solver.unshot_fraction()
     );

@@ -83,12 +83,7 @@ impl Scene {
         if self.light_count() > 0 {
             return Ok(());
         }
-        let emitting: Vec<&str> = self
-            .materials
-            .iter()
-            .filter(|m| m.is_emitter())
-            .map(|m| m.name.as_str())
-            .collect();
+        let emitting = self.emitting_materials();
         if !emitting.is_empty() {
             return Err(SceneError::EmitterZeroArea {
                 path: path.to_string(),

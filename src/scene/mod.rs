@@ -294,6 +294,15 @@ impl Scene {
             .count()
     }
 
+    /// The names of the materials that emit, whether or not a face uses them.
+    pub fn emitting_materials(&self) -> Vec<&str> {
+        self.materials
+            .iter()
+            .filter(|m| m.is_emitter())
+            .map(|m| m.name.as_str())
+            .collect()
+    }
+
     /// Area of every polygon together.
     pub fn total_area(&self) -> f32 {
         self.polygons.iter().map(|p| p.area).sum()

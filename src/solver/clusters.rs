@@ -66,7 +66,7 @@ impl Clusters {
     /// A scene of large polygons ([`AVERAGE_PATCHES`]) has none.
     pub fn new(scene: &Scene, layout: &PatchLayout, fine: u32, coarse: u32) -> Clusters {
         let n = scene.polygons.len();
-        let patches: u64 = layout.patches_per_polygon.iter().map(|&p| p as u64).sum();
+        let patches = layout.patch_count();
         if coarse == 0 || n == 0 || patches as f64 / n as f64 > AVERAGE_PATCHES {
             return Clusters::none(n);
         }
