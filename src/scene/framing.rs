@@ -4,12 +4,13 @@
 //! The display draws both sides of every polygon, the back black, so a good picture is one whose
 //! rays meet the fronts of polygons. Candidate views are judged by casting rays:
 //!
-//! - **A closed room is shown from inside.** Eyes at mid-height (or a little lower or higher)
-//!   near one end of the longest horizontal axis (then farther in, then along the other axis),
-//!   looking along it with a wide field of view. An eye is inside a room when at least 90 % of
-//!   rays cast in all directions from it meet the front of a polygon (walls face inward; an eye
-//!   inside a solid meets backs, one in an open scene meets nothing). The first such eye whose
-//!   picture is at least 90 % fronts of polygons is taken.
+//! - **A closed room is shown from inside.** Eyes at mid-height near one end of the longest
+//!   horizontal axis (then farther in, then a little lower or higher, then along the other
+//!   axis), looking along it with a wide field of view. An eye is inside a room when at least
+//!   90 % of rays cast in all directions from it meet the front of a polygon (walls face inward;
+//!   an eye inside a solid meets backs, one in an open scene meets nothing). The first such eye
+//!   whose picture is at least 90 % fronts of polygons, half of them at least 15 % of the room's
+//!   length away, is taken: an eye just in front of a sofa sees the sofa, not the room.
 //! - **Otherwise the scene is shown whole from outside**: the eye where the bounding sphere fits
 //!   the field of view, from a three-quarter view above (from -Z and +X), or, when that shows
 //!   mostly backs of polygons (a box open on one side seen from behind), from the direction
@@ -31,6 +32,9 @@ const SHOWN: f32 = 0.9;
 /// Share of the surfaces in a picture from outside that may be backs before other directions
 /// are tried.
 const BACKS: f32 = 0.05;
+/// Least median distance, as a share of the room's length, at which a picture from inside
+/// meets surfaces: an eye just in front of a sofa sees the sofa, not the room.
+const DEPTH: f32 = 0.15;
 /// Vertical field of view inside a room, degrees: wide, as a photograph of an interior.
 pub const ROOM_FOV: f32 = 70.0;
 /// Vertical field of view from outside, degrees.
@@ -64,8 +68,8 @@ fn interior(scene: &Scene, bvh: &Bvh) -> Option<Camera> {
     let directions = sphere_directions(RAYS);
     for axis in axes {
         let length = extent.dot(axis);
-        for along in ALONG {
-            for height in HEIGHTS {
+        for height in HEIGHTS {
+            for along in ALONG {
                 // Near the low end looking towards the high one, then the other way round.
                 for (start, forward) in [(lo, axis), (hi, -axis)] {
                     let mut eye = centre + axis * (start - centre).dot(axis);
@@ -81,6 +85,7 @@ fn interior(scene: &Scene, bvh: &Bvh) -> Option<Camera> {
                     let all = directions.iter().map(|&d| (eye, d));
                     if fronts(scene, bvh, all).share() >= ENCLOSED
                         && fronts(scene, bvh, picture_rays(&camera)).share() >= SHOWN
+                        && median_depth(bvh, &camera) >= DEPTH * length
                     {
                         return Some(camera);
                     }
@@ -157,6 +162,19 @@ fn fronts(scene: &Scene, bvh: &Bvh, rays: impl Iterator<Item = (Vec3, Vec3)>) ->
         }
     }
     seen
+}
+
+/// The median distance along the picture's rays to what they meet (rays that meet nothing count
+/// as infinitely far).
+fn median_depth(bvh: &Bvh, camera: &Camera) -> f32 {
+    let mut t: Vec<f32> = picture_rays(camera)
+        .map(|(o, d)| {
+            bvh.closest(o, d, u32::MAX)
+                .map_or(f32::INFINITY, |(t, _)| t)
+        })
+        .collect();
+    t.sort_unstable_by(f32::total_cmp);
+    t[t.len() / 2]
 }
 
 /// Rays from the eye through a [`GRID`] × [`GRID`] grid over a square picture.
@@ -283,6 +301,27 @@ mod tests {
             let angle = view.angle_between(corner - c.eye).to_degrees();
             assert!(angle <= 0.5 * c.fov_y + 0.01, "corner {corner} at {angle}°");
         }
+    }
+
+    #[test]
+    fn an_eye_just_in_front_of_furniture_is_passed_over() {
+        // The first eye tried (mid-height, an eighth of the way along) stands 0.1 in front of a
+        // tall cabinet: the room encloses it and its picture is all fronts, but all cabinet.
+        let (lo, hi) = (Vec3::new(-1.0, 0.0, -4.0), Vec3::new(3.0, 3.0, 6.0));
+        let first = Vec3::new(1.0, 1.5, -4.0 + 0.12 * 10.0);
+        let cabinet = cuboid(
+            Vec3::new(-0.5, 0.0, first.z + 0.1),
+            Vec3::new(2.5, 2.9, first.z + 0.6),
+            false,
+        );
+        let mut polygons = cuboid(lo, hi, true);
+        polygons.extend(cabinet);
+        let scene = test_scene(polygons);
+        let c = scene.camera_or_default();
+        assert!(inside(&c, lo, hi), "{c:?}");
+        assert!(c.eye.distance(first) > 0.5, "{c:?}");
+        let depth = median_depth(&Bvh::new(&scene), &c);
+        assert!(depth >= DEPTH * 10.0, "median depth {depth}: {c:?}");
     }
 
     #[test]
