@@ -68,7 +68,7 @@ fn the_default_command_is_within_3_percent_in_every_region() {
     assert_quoted(
         "default command, worst region %",
         100.0 * worst as f64,
-        "1.69",
+        "1.70",
     );
 }
 
@@ -91,8 +91,8 @@ fn cornell_box_matches_a_path_traced_reference() {
         100.0 * worst_noise
     );
     assert!(worst < 0.03, "a region differs by {:.2} %", 100.0 * worst);
-    // docs/testing.md: "measured: worst 1.54 %, reference noise ≤ 1.22 %".
-    assert_quoted("worst region %", 100.0 * worst as f64, "1.54");
+    // docs/testing.md: "measured: worst 1.56 %, reference noise ≤ 1.22 %".
+    assert_quoted("worst region %", 100.0 * worst as f64, "1.56");
     assert_quoted(
         "worst reference noise %",
         100.0 * worst_noise as f64,
@@ -101,16 +101,16 @@ fn cornell_box_matches_a_path_traced_reference() {
     // paper_notes' table: each region's difference (one polygon) or smallest and largest
     // (several), and its reference's standard error (the largest), in %.
     let table = [
-        ("floor", "+1.09", "+1.09", "0.08"),
+        ("floor", "+1.10", "+1.10", "0.08"),
         ("ceiling", "-0.50", "+1.00", "0.64"),
         ("back_wall", "+0.83", "+0.83", "0.08"),
-        ("red_wall", "+1.11", "+1.11", "0.10"),
+        ("red_wall", "+1.13", "+1.13", "0.10"),
         ("green_wall", "+0.40", "+0.40", "0.09"),
         ("short block top", "+0.74", "+0.74", "0.10"),
-        ("short block sides", "-1.54", "-0.17", "0.75"),
-        ("short block front", "-1.07", "-1.07", "1.22"),
+        ("short block sides", "-1.56", "-0.15", "0.75"),
+        ("short block front", "-1.04", "-1.04", "1.22"),
         ("tall block top", "+0.50", "+0.50", "0.12"),
-        ("tall block faces", "-0.84", "+1.07", "0.33"),
+        ("tall block faces", "-0.86", "+1.05", "0.33"),
     ];
     assert_eq!(
         regions.len(),

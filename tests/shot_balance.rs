@@ -2,7 +2,8 @@
 //! power it carried, per channel (`ShotRecord::received_power` ≤ `carried_power` × 1.005), on the
 //! Table 1 rooms, the Cornell box (ours and the two published ones), a non-planar 10,000-corner
 //! face and a plant of crossed double-sided quads on both solvers, and Lost Empire (a third-party
-//! voxel world of 112,499 faces) solved to 1 %. Each test walks every shot of its solve.
+//! voxel world of 112,499 faces) and the decimated living room (28,650 triangles) solved to 1 %.
+//! Each test walks every shot of its solve.
 //!
 //! `received_power` is what the receivers gained over their reflectance (the incident power),
 //! measured per channel from the lightmaps, independently of the form factors that sent it.
@@ -290,11 +291,11 @@ fn lost_empire_solves_to_one_percent_and_every_step_is_within_its_bound() {
 
 /// The decimated living room (issue 35's tessellated room, 28,650 triangles, CC BY 3.0) loads as
 /// published with its own light (`BackLight`, `Ke 1.6`), its walls merged (28,650 faces → 23,341
-/// polygons) and a budget that gives large surfaces more than one texel (41,342 patches); its
-/// first 100 shots with the defaults keep their books. Its solve to 1 % takes about 20,000 shots
-/// and half an hour on llvmpipe (docs/gallery.md), too long for CI.
+/// polygons) and a budget that gives large surfaces more than one texel (41,342 patches), and the
+/// defaults solve it to the 1 % stopping rule (about 17,600 shots, 11,100 passes and 3.5 minutes
+/// alone on the 2-core llvmpipe VM) with every shot's books kept.
 #[test]
-fn living_room_loads_as_published_and_its_first_shots_keep_their_books() {
+fn living_room_loads_as_published_and_solves_to_one_percent_keeping_its_books() {
     let scene = load_obj(&third_party("living-room/living_room.obj")).unwrap();
     assert_eq!(scene.faces, 28_650);
     assert_eq!(scene.polygons.len(), 23_341);
@@ -309,22 +310,28 @@ fn living_room_loads_as_published_and_its_first_shots_keep_their_books() {
     assert!(widest >= 200, "largest polygon: {widest} patches");
     let options = SolveOptions {
         threshold: 0.01,
-        max_shots: 100,
+        max_shots: default_max_shots(scene.polygons.len()),
         ..SolveOptions::accurate()
     };
     let ctx = context();
     let mut solver = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
     solver.solve(|_| {}).unwrap();
+    let (steps, corrections) = (solver.history().len(), solver.ledger().corrections());
     println!(
-        "living room: largest polygon {widest} patches, {} shots, {:.4} unshot",
+        "living room: largest polygon {widest} patches, {} shots in {steps} steps, {} passes, \
+         {corrections} scaled back, {:.4} unshot",
         solver.shots(),
+        solver.passes(),
         solver.unshot_fraction()
     );
-    assert!(solver.shots() >= 100);
     assert!(
-        solver.unshot_fraction() < 0.7,
+        solver.unshot_fraction() <= 0.01,
         "{}",
         solver.unshot_fraction()
     );
     walk("living room", solver.history(), solver.emitted_power());
+    assert!(
+        (corrections as usize) * 8 < steps,
+        "{corrections} of {steps} steps scaled back"
+    );
 }

@@ -4,7 +4,8 @@
 //! patches, nothing in the way) and the shadow scene (15 × 15 patches over an occluder), the first
 //! shot from at most 64 cells lands on the same radiance as from one cell per patch: exactly in
 //! the open box, where only visibility sampling could differ, and within 1.5 % on the shadowed
-//! floor's mean, where 64 points stand for 225 (the penumbra in coarser steps).
+//! floor's mean, where 64 points stand for 225 (the penumbra in coarser steps). And a shot's cells
+//! follow the power it carries, not what its polygon holds (overshooting's remainder included).
 
 mod common;
 
@@ -122,4 +123,70 @@ fn a_capped_emitter_casts_the_same_shadow_within_a_few_percent() {
         100.0 * worst / brightest
     );
     assert!(worst < 0.2 * brightest, "{worst} against {brightest}");
+}
+
+/// The Cornell box's floor holding `remainder + delta` unshot radiance on every patch, the
+/// emitters as they start; its shooters.
+fn floor_shooters(delta_share: f64) -> (usize, f64, Vec<gpu_radiosity::solver::Shooter>) {
+    use gpu_radiosity::solver::overshoot::Overshoot;
+    use gpu_radiosity::solver::CpuSolver;
+    let scene = load("cornell");
+    let layout = pipeline::lay_out(&scene, None, None).unwrap();
+    let options = SolveOptions::accurate();
+    assert!(options.overshoot);
+    let mut solver = CpuSolver::new(&scene, &layout, options, 1).unwrap();
+    // The largest polygon facing up that does not emit: the floor, which the blocks stand on.
+    let floor = (0..scene.polygons.len())
+        .filter(|&p| {
+            let polygon = &scene.polygons[p];
+            polygon.normal.y > 0.9 && !scene.material(polygon).is_emitter()
+        })
+        .max_by_key(|&p| layout.patches_per_polygon[p])
+        .unwrap();
+    let remainder = Overshoot::new(&scene, &layout.patches_per_polygon)
+        .remainder(solver.ledger().totals(), floor);
+    // Radiance per patch that makes the floor's shot carry `delta_share` of the emitted power.
+    let delta = delta_share * solver.emitted_power()
+        / (std::f64::consts::PI * scene.polygons[floor].area as f64);
+    let mut unshot = solver.unshot_atlas();
+    for texel in unshot.chunks_exact_mut(4) {
+        if texel[3] as usize == floor + 1 {
+            for c in 0..3 {
+                texel[c] = remainder[c] + delta as f32;
+            }
+        }
+    }
+    let radiosity = solver.radiosity_atlas();
+    solver.load_atlases(&radiosity, &unshot).unwrap();
+    let held = solver.ledger().totals().magnitude(floor) / solver.emitted_power();
+    (floor, held, solver.shooters_of(floor))
+}
+
+#[test]
+fn a_shot_is_cut_by_what_it_carries_not_by_what_its_polygon_holds() {
+    // Overshooting leaves the floor holding its remainder: much unshot energy, of which a shot
+    // carries only what arrived since. Such a shot, carrying almost nothing, shoots from the
+    // coarse cells uncut, as any shot that small; one carrying 3 % of the power is cut where the
+    // blocks' planes cross its cells. Before, both were cut down to single patches, as the
+    // remainder alone put the floor above `cut_above` (the living room's two slabs
+    // took back their outdated remainders 1,600 times at 500 passes a shot).
+    let options = SolveOptions::accurate();
+    let (floor, held, small) = floor_shooters(1e-5);
+    let (_, _, large) = floor_shooters(0.03);
+    let layout = pipeline::lay_out(&load("cornell"), None, None).unwrap();
+    let lm = &layout.lightmaps[floor];
+    let coarse = lm.w.div_ceil(options.coarse_cell) * lm.h.div_ceil(options.coarse_cell);
+    let ordinary = lm.w.div_ceil(options.shooter_cell) * lm.h.div_ceil(options.shooter_cell);
+    println!(
+        "floor {floor}: {}x{} patches, holds {:.2} % of the emitted power; {} shooters for a \
+         shot of 0.001 %, {} for 3 %; {coarse} coarse cells, {ordinary} ordinary",
+        lm.w,
+        lm.h,
+        100.0 * held,
+        small.len(),
+        large.len()
+    );
+    assert!(held > 10.0 * options.cut_above as f64, "{held}");
+    assert!(small.len() <= coarse as usize, "{}", small.len());
+    assert!(large.len() > ordinary as usize, "{}", large.len());
 }

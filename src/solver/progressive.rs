@@ -497,7 +497,19 @@ impl<'a, B: Backend> Solver<'a, B> {
     /// the options go beyond the paper there.
     pub fn shooters_of(&self, p: usize) -> Vec<Shooter> {
         let own = self.backend.layout();
-        let share = self.ledger.totals().magnitude(p) / self.ledger.emitted_power();
+        // What the shot moves patch by patch, not what the polygon holds (`shot_magnitude`).
+        let remainder = self
+            .overshoot
+            .as_ref()
+            .map_or(glam::Vec3::ZERO, |o| o.remainder(self.ledger.totals(), p));
+        let power = shooters::shot_magnitude(
+            own,
+            self.backend.unshot(),
+            p,
+            remainder,
+            self.ledger.patch_area(p),
+        );
+        let share = power / self.ledger.emitted_power();
         let emitter = self.scene.material(&self.scene.polygons[p]).is_emitter();
         let cells = shooters::cells_of_shot(&self.options, emitter, share);
         let mut shooters = shooters::shooters_of(
@@ -511,10 +523,7 @@ impl<'a, B: Backend> Solver<'a, B> {
             cells,
             self.max_cells,
         );
-        let remainder = self
-            .overshoot
-            .as_ref()
-            .map(|o| o.remainder(self.ledger.totals(), p));
+        let remainder = self.overshoot.is_some().then_some(remainder);
         for s in &mut shooters {
             if let Some(remainder) = remainder {
                 // Each of the shooter's patches shoots −remainder more radiance.

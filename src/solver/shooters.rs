@@ -43,7 +43,8 @@ pub fn cuts_cells(options: &SolveOptions, share: f64) -> bool {
     share.abs() >= options.cut_above as f64
 }
 
-/// How a shot of `share` of the emitted power divides its polygon: the side of its cells, and
+/// How a shot of `share` of the emitted power (what it moves, [`shot_magnitude`]) divides its
+/// polygon: the side of its cells, and
 /// the side down to which a cell that a touching polygon's plane crosses is cut (`None`: not
 /// cut). The paper's accounting: cells of [`cell_side`], every one cut down to single patches.
 /// Beyond it, a shot below `cut_above` ([`cuts_cells`]) shoots from cells of `coarse_cell`
@@ -61,6 +62,37 @@ pub fn cells_of_shot(options: &SolveOptions, emitter: bool, share: f64) -> (u32,
     } else {
         (cell, None)
     }
+}
+
+/// The power a shot of polygon `p` moves, patch by patch: π·Σ |unshot − `remainder`| × patch
+/// area over its patches that have received (RGB mean; without overshooting, `remainder` 0, its
+/// unshot power). Beyond the paper, for [`cells_of_shot`]: a shot's error at a contact grows with
+/// what it moves there, and with overshooting that is neither what the polygon holds (its
+/// remainder too: a large polygon taking back a few percent of an outdated remainder holds much
+/// and moves little) nor what the shot carries in sum (light arrived near a contact and the
+/// remainder taken back elsewhere cancel in the sum, not at the contact).
+pub fn shot_magnitude(
+    layout: &PatchLayout,
+    unshot: &[f32],
+    p: usize,
+    remainder: Vec3,
+    patch_area: f64,
+) -> f64 {
+    let lm = &layout.lightmaps[p];
+    let width = layout.atlas_width as usize;
+    let mut sum = 0f64;
+    for t in lm.y..lm.y + lm.h {
+        let row = t as usize * width;
+        for s in lm.x..lm.x + lm.w {
+            let texel = &unshot[(row + s as usize) * 4..][..4];
+            let v = Vec3::new(texel[0], texel[1], texel[2]);
+            // A patch that has never received shoots nothing (`cell_parts`).
+            if texel[3] as usize == p + 1 && v != Vec3::ZERO {
+                sum += (v - remainder).abs().element_sum() as f64;
+            }
+        }
+    }
+    std::f64::consts::PI * sum * patch_area / 3.0
 }
 
 /// The fewest cells a polygon's shot may be held to, however large the scene: an area light is
