@@ -501,12 +501,12 @@ impl<'a, B: Backend> Solver<'a, B> {
         let remainder = self
             .overshoot
             .as_ref()
-            .map_or(glam::Vec3::ZERO, |o| o.remainder(self.ledger.totals(), p));
+            .map(|o| o.remainder(self.ledger.totals(), p));
         let power = shooters::shot_magnitude(
             own,
             self.backend.unshot(),
             p,
-            remainder,
+            remainder.unwrap_or(glam::Vec3::ZERO),
             self.ledger.patch_area(p),
         );
         let share = power / self.ledger.emitted_power();
@@ -523,7 +523,6 @@ impl<'a, B: Backend> Solver<'a, B> {
             cells,
             self.max_cells,
         );
-        let remainder = self.overshoot.is_some().then_some(remainder);
         for s in &mut shooters {
             if let Some(remainder) = remainder {
                 // Each of the shooter's patches shoots −remainder more radiance.

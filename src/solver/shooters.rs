@@ -44,10 +44,9 @@ pub fn cuts_cells(options: &SolveOptions, share: f64) -> bool {
 }
 
 /// How a shot of `share` of the emitted power (what it moves, [`shot_magnitude`]) divides its
-/// polygon: the side of its cells, and
-/// the side down to which a cell that a touching polygon's plane crosses is cut (`None`: not
-/// cut). The paper's accounting: cells of [`cell_side`], every one cut down to single patches.
-/// Beyond it, a shot below `cut_above` ([`cuts_cells`]) shoots from cells of `coarse_cell`
+/// polygon: the side of its cells, and the side down to which a cell that a touching polygon's
+/// plane crosses is cut (`None`: not cut). The paper's accounting: cells of [`cell_side`], every
+/// one cut down to single patches. Beyond it, a shot below `cut_above` ([`cuts_cells`]) shoots from cells of `coarse_cell`
 /// where that is wider: the late, small shots of large polygons in a fraction of the passes.
 /// Those above [`UNCUT_BELOW`] × `cut_above` are cut down to the ordinary cell where a plane
 /// crosses them (near contacts they shoot as the ordinary cells would); the smallest are not
