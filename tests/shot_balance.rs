@@ -17,9 +17,9 @@ use gpu_radiosity::solver::balance::{EMITTED_NOISE, TOLERANCE};
 use gpu_radiosity::solver::{default_max_shots, CpuSolver, GpuSolver, ShotRecord, SolveOptions};
 use std::path::{Path, PathBuf};
 
-/// Every shot of `history` within its bound (or, for a shot that carries next to nothing, within
-/// the float noise of the atlas's sums, `balance::EMITTED_NOISE` of the `emitted` power, as the
-/// solver judges it); the worst ratio.
+/// Every shot of `history` within its bound once the float noise of the atlas's sums
+/// (`balance::EMITTED_NOISE` of the `emitted` power) is taken off what it received, as the solver
+/// judges it; the worst ratio of the shots that are within it without that allowance.
 fn walk(name: &str, history: &[ShotRecord], emitted: f64) -> f64 {
     assert!(!history.is_empty(), "{name}: no shot");
     let mut worst = 0f64;
@@ -30,16 +30,27 @@ fn walk(name: &str, history: &[ShotRecord], emitted: f64) -> f64 {
             r.shot
         );
         let ratio = r.received_power / r.carried_power;
-        let noise = r.received_power - r.carried_power <= EMITTED_NOISE * emitted;
+        // As the solver judges a shot: what it received less the float noise, against what it
+        // carried (a shot of 1e-5 of the emitted power may read 1.005x on noise alone).
+        let noise = EMITTED_NOISE * emitted;
         assert!(
-            ratio <= TOLERANCE || noise,
-            "{name}: shot {} (polygon {}) received {:.4}x what it carried",
+            r.received_power - noise <= TOLERANCE * r.carried_power,
+            "{name}: shot {} (polygon {}) received {:.4}x what it carried ({:.3e} of the \
+             emitted power, float noise {:.3e} of it)",
             r.shot,
             r.shooter,
-            ratio
+            ratio,
+            r.carried_power / emitted,
+            EMITTED_NOISE
         );
         if ratio <= TOLERANCE {
             worst = worst.max(ratio);
+        } else {
+            println!(
+                "{name}: shot {} read {ratio:.4}x carrying {:.3e} of the emitted power: float noise",
+                r.shot,
+                r.carried_power / emitted
+            );
         }
     }
     println!(
