@@ -286,7 +286,7 @@ fn a_reader_that_stops_early_ends_the_report_not_the_command() {
 
 /// Without `--max-shots`, a scene of more than 10,000 polygons gets a shot per polygon (a scene
 /// of many small polygons needs a shot for every few polygons; Lost Empire reaches 1 % at shot
-/// 14,752), and the run says so; `--max-shots` still sets it.
+/// 14,937), and the run says so; `--max-shots` still sets it.
 #[test]
 fn the_shot_limit_grows_with_the_polygons_unless_given() {
     let dir = tempfile::tempdir().unwrap();

@@ -301,7 +301,7 @@ pub const DEFAULT_THRESHOLD: f32 = 0.003;
 /// The shot limit of `radiosity solve` when `--max-shots` is not given: the modes' 10,000, or one
 /// per polygon on scenes of more polygons (at most 1,000,000). A scene of many small polygons
 /// needs a shot for every few polygons: Lost Empire (48,596 polygons) reaches 1 % unshot at shot
-/// 14,752 (33,875 while shots created energy, stopping at the 10,000 limit with 5.4 % left).
+/// 14,937 (33,875 while shots created energy, stopping at the 10,000 limit with 5.4 % left).
 pub fn default_max_shots(polygons: usize) -> u32 {
     (polygons.min(1_000_000) as u32).max(SolveOptions::paper().max_shots)
 }
