@@ -10,8 +10,8 @@
 //! default mode), `kN` (N shooters per pass),
 //! `no-overshoot`, `small=N` (the small shots' item-buffer side), `min=N` (the smallest shots'
 //! side, `SolveOptions::min_hemi_res`), `mark=N` (`Tuning::marking_below`), or `-SWITCH` to
-//! turn off one
-//! `Tuning` switch (`-marking_pass`, `-plates`, …).
+//! turn off one `Tuning` switch (`-marking_pass`, `-plates`, …; `+receivers_only` turns that
+//! one on). The last line says whether the two ended with the same lightmaps.
 //! Switches of `Tuning` leave the answer as it is, so both solvers take the same shots; options
 //! that change the answer may make them take different ones.
 //!
@@ -50,6 +50,7 @@ fn configuration(changes: &str) -> SolveOptions {
                 t.marking_below = mark[5..].parse().expect("mark=N: a percentage")
             }
             "-receivers_only" => t.receivers_only = false,
+            "+receivers_only" => t.receivers_only = true,
             "-marking_pass" => t.marking_pass = false,
             "-skip_needless_clipping" => t.skip_needless_clipping = false,
             "-unroll_quads" => t.unroll_quads = false,
@@ -146,5 +147,16 @@ fn main() {
         "polygon views left out between pixel centres: A {}, B {}",
         missed(0),
         missed(1)
+    );
+    // Switches of `Tuning` must leave the answer as it is: say whether they did.
+    let same = solvers[0].radiosity_atlas() == solvers[1].radiosity_atlas()
+        && solvers[0].unshot_atlas() == solvers[1].unshot_atlas();
+    println!(
+        "lightmaps: {}",
+        if same {
+            "bit for bit the same"
+        } else {
+            "different"
+        }
     );
 }
