@@ -1,6 +1,7 @@
 //! Which polygons can receive from a shooter (`Tuning::receivers_only`), and which 4×4 blocks of
-//! the atlas a pass must therefore draw, with which shader: the CPU half of the reconstruction
-//! pass, run before each draw.
+//! the atlas a pass must therefore draw (those that hold the receivers' patches, not the whole of
+//! their lightmap rectangles), with which shader: the CPU half of the reconstruction pass, run
+//! before each draw.
 
 use super::cover::BLOCK;
 use crate::geometry::sphere_around;
@@ -38,6 +39,12 @@ pub(super) struct Receivers {
     with_patches: Vec<usize>,
     /// Lightmap rectangles [x0, y0, x1, y1), per polygon.
     texels: Vec<[u32; 4]>,
+    /// The blocks that hold patches of polygon p: `blocks[block_starts[p]..block_starts[p + 1]]`
+    /// (ascending). A merged polygon's rectangle holds many texels outside its outline, whole
+    /// blocks of them on a voxel world's concave walls (Lost Empire: 10,363 blocks in the
+    /// rectangles, 9,047 with patches); those are not drawn.
+    blocks: Vec<u32>,
+    block_starts: Vec<usize>,
     /// Per 4×4 block of the atlas, row by row, which kinds of polygon have texels in it this
     /// pass (`CLIPPED`, `SHOOTER_ABOVE`, `NOT_RECEIVING`, `SHOOTER`).
     flags: Vec<u8>,
@@ -52,6 +59,7 @@ impl Receivers {
             .collect();
         let blocks_wide = layout.atlas_width.div_ceil(BLOCK) as usize;
         let blocks = blocks_wide * layout.atlas_height.div_ceil(BLOCK) as usize;
+        let (blocks_of, block_starts) = patch_blocks(layout, blocks_wide);
         let mut starts = vec![0];
         let mut outlines = Vec::new();
         for p in &scene.polygons {
@@ -66,6 +74,8 @@ impl Receivers {
             slack: scene.plane_slack(),
             with_patches,
             texels,
+            blocks: blocks_of,
+            block_starts,
             flags: vec![0; blocks],
             blocks_wide,
         }
@@ -138,7 +148,9 @@ impl Receivers {
                 touched.push(p);
             }
             if flag != 0 {
-                mark(&mut self.flags, self.texels[p], flag);
+                for &b in &self.blocks[self.block_starts[p]..self.block_starts[p + 1]] {
+                    self.flags[b as usize] |= flag;
+                }
             }
         }
         // The shooting texels are drawn to clear their unshot energy.
@@ -210,5 +222,108 @@ impl Receivers {
         } else {
             Reception::Clipped
         }
+    }
+}
+
+/// Per polygon, the blocks (indices in rows of `wide`) that hold its patches, ascending, one
+/// list after another, and where each polygon's list starts (one more entry than polygons).
+fn patch_blocks(layout: &PatchLayout, wide: usize) -> (Vec<u32>, Vec<usize>) {
+    let width = layout.atlas_width as usize;
+    let b = BLOCK as usize;
+    // (polygon, block) of every patch texel; `owner` is the polygon ID + 1, 0 for no patch.
+    let mut pairs: Vec<(u32, u32)> = (layout.owner.iter().enumerate())
+        .filter(|&(_, &o)| o != 0)
+        .map(|(i, &o)| (o - 1, ((i / width / b) * wide + i % width / b) as u32))
+        .collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    let polygons = layout.patches_per_polygon.len();
+    let mut starts = vec![0; polygons + 1];
+    for &(p, _) in &pairs {
+        starts[p as usize + 1] += 1;
+    }
+    for p in 0..polygons {
+        starts[p + 1] += starts[p];
+    }
+    (pairs.into_iter().map(|(_, block)| block).collect(), starts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::patches::Resolution;
+    use crate::scene::bundled;
+    use std::collections::BTreeSet;
+
+    #[test]
+    fn each_polygon_lists_exactly_the_blocks_that_hold_its_patches() {
+        let (mut listed, mut in_rectangles) = (0, 0);
+        for scene in &bundled::ALL {
+            let scene = scene.load().unwrap();
+            let layout = PatchLayout::new(&scene, Resolution::Patches(4096)).without_gutters();
+            let wide = layout.atlas_width.div_ceil(BLOCK) as usize;
+            let (blocks, starts) = patch_blocks(&layout, wide);
+            let width = layout.atlas_width as usize;
+            for (p, [x0, y0, x1, y1]) in layout.texel_rects().into_iter().enumerate() {
+                let mine = &blocks[starts[p]..starts[p + 1]];
+                let expected: BTreeSet<u32> = (layout.owner.iter().enumerate())
+                    .filter(|&(_, &o)| o == p as u32 + 1)
+                    .map(|(i, _)| ((i / width) / 4 * wide + (i % width) / 4) as u32)
+                    .collect();
+                assert_eq!(
+                    mine,
+                    expected.into_iter().collect::<Vec<_>>(),
+                    "polygon {p}"
+                );
+                listed += mine.len();
+                if layout.patches_per_polygon[p] > 0 {
+                    let (bx, by) = (
+                        x1.div_ceil(BLOCK) - x0 / BLOCK,
+                        y1.div_ceil(BLOCK) - y0 / BLOCK,
+                    );
+                    in_rectangles += (bx * by) as usize;
+                }
+            }
+        }
+        // The bundled scenes' lightmaps fill their rectangles' blocks.
+        assert_eq!(listed, in_rectangles);
+    }
+
+    #[test]
+    fn a_concave_polygon_lists_fewer_blocks_than_its_rectangle() {
+        // An L-shaped floor of three unit squares, merged into one polygon, under a small light:
+        // a quarter of its rectangle holds no patch.
+        let dir = std::env::temp_dir().join(format!("radiosity-blocks-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(
+            dir.join("l.mtl"),
+            "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1 1 1\n",
+        )
+        .unwrap();
+        std::fs::write(
+            dir.join("l.obj"),
+            "mtllib l.mtl\nv 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 0 1\nv 1 0 1\nv 2 0 1\nv 0 0 2\n\
+             v 1 0 2\nv 0.4 1 0.4\nv 0.6 1 0.4\nv 0.6 1 0.6\nv 0.4 1 0.6\nusemtl floor\n\
+             f 1 4 5 2\nf 2 5 6 3\nf 4 7 8 5\nusemtl light\nf 9 10 11 12\n",
+        )
+        .unwrap();
+        let scene = crate::scene::load_obj(&dir.join("l.obj")).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(scene.polygons.len(), 2, "the L merged into one polygon");
+        let layout = PatchLayout::new(&scene, Resolution::Patches(4096)).without_gutters();
+        let wide = layout.atlas_width.div_ceil(BLOCK) as usize;
+        let (_, starts) = patch_blocks(&layout, wide);
+        let floor = (0..2)
+            .max_by_key(|&p| layout.patches_per_polygon[p])
+            .unwrap();
+        let [x0, y0, x1, y1] = layout.texel_rects()[floor];
+        let rectangle = (x1.div_ceil(BLOCK) - x0 / BLOCK) * (y1.div_ceil(BLOCK) - y0 / BLOCK);
+        let listed = starts[floor + 1] - starts[floor];
+        // Three quarters of the rectangle, give or take the blocks along the inner edges.
+        let share = listed as f64 / rectangle as f64;
+        assert!(
+            (0.7..0.85).contains(&share),
+            "{listed} of {rectangle} blocks"
+        );
     }
 }
