@@ -352,3 +352,63 @@ fn solids_and_plates_of_both_rooms() {
         );
     }
 }
+
+#[test]
+fn a_pass_whose_draw_lists_are_built_aside_draws_the_same_item_buffers() {
+    // `VisibilityPass::run_pass` builds each next shot's draw list on another thread while the
+    // draws of this one are issued: every slot must hold what `run_in_slot` draws into it, pixel
+    // for pixel, at the shots' own resolutions (here 128² and 16² to 64² per face).
+    let ctx = context();
+    let (scene, layout) = simple_room();
+    let n = scene.polygons.len();
+    let geometry = mesh::upload_scene(&ctx.gl, &mesh::vertex_data(&scene, &layout), n).unwrap();
+    let slots = 8;
+    let pass = || {
+        VisibilityPass::with_slots(
+            &ctx,
+            VisibilityKind::Hemicube,
+            128,
+            Tuning::llvmpipe(),
+            &scene,
+            slots,
+        )
+        .unwrap()
+    };
+    let (mut aside, mut one_by_one) = (pass(), pass());
+    let solver = GpuSolver::new(&ctx, &scene, &layout, SolveOptions::accurate()).unwrap();
+    let template = solver.shooters_of(solver.next_polygon().unwrap())[0];
+    let mut compared = 0;
+    for (round, first) in (0..n).step_by(97).enumerate() {
+        let shooters: Vec<_> = (0..slots as usize)
+            .map(|k| {
+                let p = (first + 13 * k) % n;
+                let polygon = &scene.polygons[p];
+                let mut shooter = template;
+                shooter.polygon = p;
+                shooter.normal = polygon.normal;
+                shooter.position = polygon.centroid;
+                shooter.hemi_res = [128, 16, 37, 64][(round + k) % 4];
+                shooter
+            })
+            .collect();
+        aside.run_pass(&ctx, &geometry, &shooters).unwrap();
+        for (slot, shooter) in shooters.iter().enumerate() {
+            one_by_one
+                .run_in_slot(&ctx, &geometry, shooter, slot)
+                .unwrap();
+            assert_eq!(
+                aside.read_slot_ids(slot),
+                one_by_one.read_slot_ids(slot),
+                "round {round}, slot {slot}"
+            );
+            compared += 1;
+        }
+    }
+    assert!(compared >= 100, "{compared} item buffers compared");
+    assert_eq!(
+        aside.missed(),
+        one_by_one.missed(),
+        "polygons between centres"
+    );
+    assert!(aside.missed() > 0, "the small shots leave polygons out");
+}

@@ -133,6 +133,12 @@ impl Backend for GpuBackend<'_> {
             .run_in_slot(self.ctx, &self.visibility_mesh, shooter, slot)?)
     }
 
+    fn visibility_pass(&mut self, shooters: &[Shooter]) -> Result<(), SolveError> {
+        Ok(self
+            .visibility
+            .run_pass(self.ctx, &self.visibility_mesh, shooters)?)
+    }
+
     fn reconstruction(&mut self, shooters: &[Shooter]) -> Result<(), SolveError> {
         self.reconstruction.run(
             self.ctx,

@@ -38,6 +38,15 @@ pub trait Backend {
     /// Visibility pass (3.2.1): what the shooter sees, kept in item-buffer slot `slot` (0 in the
     /// paper; one slot per shooter of the next reconstruction pass).
     fn visibility(&mut self, shooter: &Shooter, slot: usize) -> Result<(), SolveError>;
+    /// The visibility passes of one reconstruction pass's `shooters`, `shooters[k]` into slot
+    /// k: one `visibility` after another, unless the backend overlaps them (beyond the paper:
+    /// `VisibilityPass::run_pass`).
+    fn visibility_pass(&mut self, shooters: &[Shooter]) -> Result<(), SolveError> {
+        for (slot, shooter) in shooters.iter().enumerate() {
+            self.visibility(shooter, slot)?;
+        }
+        Ok(())
+    }
     /// Reconstruction pass (3.2.2, steps 1–3): every receiver's ΔL from `shooters` (one in the
     /// paper; their visibility in slots 0, 1, …) added to its lightmap values; the shooting
     /// texels' unshot radiance zero (or their remainder), plus what the others send them.
@@ -330,9 +339,7 @@ impl<'a, B: Backend> Solver<'a, B> {
         for pass in shooters.chunks(self.options.shooters_per_pass.max(1) as usize) {
             let (backend, times) = (&mut self.backend, &mut self.ledger.times);
             if draw_visibility {
-                for (slot, shooter) in pass.iter().enumerate() {
-                    times.time(VISIBILITY, || backend.visibility(shooter, slot))?;
-                }
+                times.time(VISIBILITY, || backend.visibility_pass(pass))?;
             }
             times.time(RECONSTRUCTION, || backend.reconstruction(pass))?;
             times.time(ACCUMULATION, || backend.accumulate())?;

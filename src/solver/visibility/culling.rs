@@ -72,7 +72,38 @@ pub struct Culling {
     pub(super) solids: Solids,
     /// Each drawn polygon's corners, for `Tuning::cull_between_samples`.
     outlines: Outlines,
-    /// Per solid, whether the current shooter is clear of it.
+    /// The lists of `draw_list` (those of `build` belong to the caller).
+    lists: Lists,
+    /// How many times a view left a polygon out as falling between the pixel centres, over all
+    /// shots (`Tuning::cull_between_samples`), but for those counted in lists not yet handed
+    /// to `count`.
+    pub missed: u64,
+}
+
+/// The triangles of a [`SceneMesh`] without its GL objects, which stay on the GL thread.
+#[derive(Clone, Copy)]
+pub struct Triangles<'a> {
+    /// Every polygon's triangles as corner indices, polygon after polygon.
+    pub triangles: &'a [u32],
+    /// Polygon `i`'s triangles: (first index, index count) in `triangles`.
+    pub ranges: &'a [(u32, u32)],
+}
+
+impl<'a> Triangles<'a> {
+    /// `mesh`'s triangles.
+    pub fn of(mesh: &'a SceneMesh) -> Self {
+        Triangles {
+            triangles: &mesh.triangles,
+            ranges: &mesh.ranges,
+        }
+    }
+}
+
+/// One shot's draw list and the scratch space it is built in: the caller may keep several
+/// (one per shooter of a pass), and build them on other threads ([`Culling::build`]).
+#[derive(Clone, Debug, Default)]
+pub struct Lists {
+    /// Per solid, whether the shooter is clear of it.
     outside: Vec<bool>,
     /// The polygons in front of the shooter: (polygon, sphere centre in eye space, radius).
     in_front: Vec<(usize, Vec3, f32)>,
@@ -81,9 +112,21 @@ pub struct Culling {
     indices: Vec<u32>,
     /// One view's polygons that may need clipping, gathered to follow its others.
     clipped: Vec<u32>,
-    /// How many times a view left a polygon out as falling between the pixel centres, over all
-    /// shots (`Tuning::cull_between_samples`).
+    /// Where each view's triangles are in `indices`.
+    views: [ViewDraw; 5],
+    /// How many times a view of this shot left a polygon out as falling between the pixel
+    /// centres.
     pub missed: u64,
+}
+
+impl Lists {
+    /// The draw list built last.
+    pub fn draw_list(&self) -> DrawList<'_> {
+        DrawList {
+            indices: &self.indices,
+            views: self.views,
+        }
+    }
 }
 
 impl Culling {
@@ -108,12 +151,24 @@ impl Culling {
             planes: scene.polygons.iter().map(|p| p.plane()).collect(),
             solids: Solids::find(scene),
             outlines: Outlines::new(scene, &Plates::none(scene.polygons.len())),
-            outside: Vec::new(),
-            in_front: Vec::new(),
-            indices: Vec::new(),
-            clipped: Vec::new(),
+            lists: Lists::default(),
             missed: 0,
         }
+    }
+
+    /// This culling, leaving a stand-in that culls nothing in its place (for `build` on
+    /// another thread while the owner issues draws).
+    pub fn take(&mut self) -> Culling {
+        let empty = Culling {
+            spheres: Vec::new(),
+            planes: Vec::new(),
+            solids: Solids::default(),
+            outlines: Outlines::default(),
+            lists: Lists::default(),
+            missed: 0,
+            ..*self
+        };
+        std::mem::replace(self, empty)
     }
 
     /// Cull by `plates` from now on: each plate's sphere and outline stand for its polygons.
@@ -134,36 +189,59 @@ impl Culling {
         plates: &Plates,
         res: i32,
     ) -> DrawList<'_> {
-        self.find_in_front(shooter, view, plates);
+        let mut lists = std::mem::take(&mut self.lists);
+        self.build(&mut lists, Triangles::of(mesh), shooter, view, plates, res);
+        self.missed += std::mem::take(&mut lists.missed);
+        self.lists = lists;
+        self.lists.draw_list()
+    }
+
+    /// [`draw_list`](Self::draw_list) into `lists` (`Lists::draw_list` then gives it), reading
+    /// only what the culling knows of the scene: several shots' lists can be built at once.
+    pub fn build(
+        &self,
+        lists: &mut Lists,
+        mesh: Triangles<'_>,
+        shooter: &Shooter,
+        view: Mat4,
+        plates: &Plates,
+        res: i32,
+    ) {
+        self.find_in_front(lists, shooter, view, plates);
         let views = match self.kind {
             VisibilityKind::Hemisphere => 1,
             VisibilityKind::Hemicube => 5,
         };
         let mut draws = [ViewDraw::default(); 5];
-        self.indices.clear();
+        lists.indices.clear();
         for (rotation, draw) in face_rotations().iter().zip(&mut draws).take(views) {
-            *draw = self.add_view(mesh, *rotation, view, res);
+            *draw = self.add_view(lists, mesh, *rotation, view, res);
         }
-        DrawList {
-            indices: &self.indices,
-            views: draws,
-        }
+        lists.views = draws;
     }
 
     /// Append to `indices` the triangles of the view turned by `rotation` (a hemicube face;
     /// the hemisphere's one view is the front face's): the polygons of `in_front` wholly inside
     /// the guarded frustum and beyond the near plane (no vertex to clip: llvmpipe's fast path),
     /// then the others; without `split_unclipped`, all of them as "others", in the scene's order.
-    fn add_view(&mut self, mesh: &SceneMesh, rotation: Mat3, view: Mat4, res: i32) -> ViewDraw {
-        let first = self.indices.len();
-        self.clipped.clear();
+    fn add_view(
+        &self,
+        lists: &mut Lists,
+        mesh: Triangles<'_>,
+        rotation: Mat3,
+        view: Mat4,
+        res: i32,
+    ) -> ViewDraw {
+        let first = lists.indices.len();
+        lists.clipped.clear();
         let face = Mat4::from_mat3(rotation) * view;
-        for i in 0..self.in_front.len() {
-            let (p, c, radius) = self.in_front[i];
+        for i in 0..lists.in_front.len() {
+            let (p, c, radius) = lists.in_front[i];
             let inside = match self.kind {
                 VisibilityKind::Hemisphere => false,
                 VisibilityKind::Hemicube => {
-                    match self.place_on_face(p, rotation * c, radius, &face, res) {
+                    let missed = &mut lists.missed;
+                    match self.place_on_face(p, rotation * c, radius, &face, res, missed) {
                         Some(inside) => inside,
                         None => continue,
                     }
@@ -172,17 +250,20 @@ impl Culling {
             let (start, count) = mesh.ranges[p];
             let corners = &mesh.triangles[start as usize..(start + count) as usize];
             if inside {
-                self.indices.extend_from_slice(corners);
+                lists.indices.extend_from_slice(corners);
             } else {
-                self.clipped.extend_from_slice(corners);
+                lists.clipped.extend_from_slice(corners);
             }
         }
-        let unclipped = self.indices.len() - first;
-        self.indices.extend_from_slice(&self.clipped);
+        let unclipped = lists.indices.len() - first;
+        let Lists {
+            indices, clipped, ..
+        } = lists;
+        indices.extend_from_slice(clipped);
         ViewDraw {
             first,
             unclipped,
-            clipped: self.indices.len() - first - unclipped,
+            clipped: lists.indices.len() - first - unclipped,
         }
     }
 
@@ -190,13 +271,15 @@ impl Culling {
     /// at `f` in face space: `None` left out (outside the face, or between the pixel centres at
     /// `res` pixels per side), `Some(true)` wholly inside the guarded frustum, `Some(false)` a
     /// polygon that may need clipping.
+    #[allow(clippy::too_many_arguments)]
     fn place_on_face(
-        &mut self,
+        &self,
         p: usize,
         f: Vec3,
         radius: f32,
         face: &Mat4,
         res: i32,
+        missed: &mut u64,
     ) -> Option<bool> {
         let tuning = &self.tuning;
         let near = self.near;
@@ -215,7 +298,7 @@ impl Culling {
             && 2.0 * radius / depth * pixels_per_tangent < samples::MAX_EXTENT
             && samples::misses_every_centre(self.outlines.of(p), face, res as f32, 2.0 * near)
         {
-            self.missed += 1;
+            *missed += 1;
             return None;
         }
         // Inside the guarded side planes (normals (±1, 0, -g)/√(1 + g²), ...).
@@ -233,15 +316,15 @@ impl Culling {
     /// centres in the shooter's eye space (once for all the views). Left out: what lies wholly
     /// behind the shooter's plane (nothing it could hide is looked up), the shooter's own plate,
     /// and the faces of solids turned away from a shooter outside them.
-    fn find_in_front(&mut self, shooter: &Shooter, view: Mat4, plates: &Plates) {
+    fn find_in_front(&self, lists: &mut Lists, shooter: &Shooter, view: Mat4, plates: &Plates) {
         let s = shooter.position;
         let solids = &self.solids;
-        self.outside.clear();
+        lists.outside.clear();
         // Clear of the near plane too: geometry nearer than it is clipped away, and a clipped
         // near face would show the far face behind it. On a face axis, depth ≥ distance / √3.
         let margin = self.near * 3f32.sqrt();
         let tuning = self.tuning;
-        self.outside.extend(
+        lists.outside.extend(
             // Only where projected straight edges are exact (the hemicube): the hemispherical
             // projection drawn with straight edges lets a far face peek past the near ones.
             (0..solids.count()).map(|k| {
@@ -250,7 +333,7 @@ impl Culling {
                     && solids.clear_of(k, s, margin)
             }),
         );
-        self.in_front.clear();
+        lists.in_front.clear();
         // The shooter's plate lies in the shooter's plane, which the near plane clips away (and
         // the shaders put it beyond the far plane).
         let shooter_plate = plates.representative[shooter.polygon];
@@ -264,11 +347,11 @@ impl Culling {
             }
             // A solid's face turned away from a shooter outside the solid hides nothing.
             if let Some(k) = solids.solid_of[p] {
-                if self.outside[k] && self.planes[p].distance(s) < -solids.slack {
+                if lists.outside[k] && self.planes[p].distance(s) < -solids.slack {
                     continue;
                 }
             }
-            self.in_front.push((p, c, radius));
+            lists.in_front.push((p, c, radius));
         }
     }
 }

@@ -33,7 +33,7 @@ use crate::gl::{
 };
 use crate::glsl;
 use crate::scene::Scene;
-use culling::{Culling, DrawList, ViewDraw};
+use culling::{Culling, DrawList, Lists, Triangles, ViewDraw};
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
 use plates::Plates;
@@ -67,6 +67,8 @@ pub struct VisibilityPass {
     culls: bool,
     /// The triangles the views of the last shot drew.
     stream: IndexStream,
+    /// The draw lists of `run_pass`, one per shooter of a pass, kept for the next.
+    pass_lists: Vec<Lists>,
 }
 
 /// One item buffer (RGBA8, ID + 1 in RGB, 0 = nothing seen) with its depth buffer and FBO.
@@ -211,6 +213,7 @@ impl VisibilityPass {
             culling: Culling::new(scene, kind, tuning, near_far[0], guard),
             culls: Culling::asked(&tuning, kind),
             stream: IndexStream::new(gl)?,
+            pass_lists: Vec::new(),
         })
     }
 
@@ -261,22 +264,116 @@ impl VisibilityPass {
             )));
         }
         let view = shooter.view();
-        // This shot's resolution (`SolveOptions::small_hemi_res`): the views fill the item
-        // buffer's lower-left corner, and the reconstruction pass looks up only that.
-        let r = (shooter.hemi_res as i32).clamp(1, self.resolution);
+        let r = self.resolution_of(shooter);
         let views = self.upload_draw_list(mesh, shooter, view, r);
+        let id = self.shown_as(shooter.polygon) as f32;
+        self.draw(ctx, mesh, slot, id, view, r, views)
+    }
+
+    /// This shot's resolution (`SolveOptions::small_hemi_res`): the views fill the item
+    /// buffer's lower-left corner, and the reconstruction pass looks up only that.
+    fn resolution_of(&self, shooter: &Shooter) -> i32 {
+        (shooter.hemi_res as i32).clamp(1, self.resolution)
+    }
+
+    /// Draw the views (`views`, in the uploaded draw list) from a shooter shown as `id`, with
+    /// view matrix `view`, at `r` pixels per side, into slot `slot`.
+    #[allow(clippy::too_many_arguments)]
+    fn draw(
+        &mut self,
+        ctx: &GlContext,
+        mesh: &SceneMesh,
+        slot: usize,
+        id: f32,
+        view: Mat4,
+        r: i32,
+        views: [ViewDraw; 5],
+    ) -> Result<(), GlError> {
         self.clear_slot(ctx, slot, r);
         self.program.use_program();
         // The shooter's plate lies in the shooter's plane, which the near plane clips away;
         // the shaders put it beyond the far plane.
-        self.program
-            .set_f32("ShooterId", self.shown_as(shooter.polygon) as f32);
+        self.program.set_f32("ShooterId", id);
         self.program.set_mat4("ShooterView", &view.to_cols_array());
         match self.kind {
             VisibilityKind::Hemisphere => self.draw_hemisphere(mesh, views[0]),
             VisibilityKind::Hemicube => self.draw_hemicube(ctx, mesh, &views, view, r),
         }
         self.finish(ctx)
+    }
+
+    /// The visibility passes of one reconstruction pass: `shooters[k]` into slot k, as
+    /// `run_in_slot` draws them one by one, but each next shot's draw list is built on another
+    /// thread while this one's draws are issued. On llvmpipe the thread that issues the draws
+    /// also transforms and sets up every triangle, and is the one the visibility pass waits
+    /// for; building the lists (`Culling::build`) was a sixth of its time on Lost Empire
+    /// (docs/perf-log.md). The same lists, so the same item buffers.
+    pub fn run_pass(
+        &mut self,
+        ctx: &GlContext,
+        mesh: &SceneMesh,
+        shooters: &[Shooter],
+    ) -> Result<(), GlError> {
+        if !self.culls || shooters.len() < 2 || shooters.len() > self.slots.len() {
+            for (slot, shooter) in shooters.iter().enumerate() {
+                self.run_in_slot(ctx, mesh, shooter, slot)?;
+            }
+            return Ok(());
+        }
+        let shots: Vec<(Mat4, i32, f32)> = (shooters.iter())
+            .map(|s| {
+                (
+                    s.view(),
+                    self.resolution_of(s),
+                    self.shown_as(s.polygon) as f32,
+                )
+            })
+            .collect();
+        let culling = self.culling.take();
+        let plates = std::mem::take(&mut self.plates);
+        let mut lists = std::mem::take(&mut self.pass_lists);
+        lists.resize_with(shooters.len(), Lists::default);
+        let triangles = Triangles::of(mesh);
+        let build = |lists: &mut Lists, k: usize| {
+            let (view, r, _) = shots[k];
+            culling.build(lists, triangles, &shooters[k], view, &plates, r);
+        };
+        build(&mut lists[0], 0);
+        let mut rest: Vec<Lists> = lists.drain(1..).collect();
+        let drawn = std::thread::scope(|scope| {
+            let (done, next) = std::sync::mpsc::channel();
+            let builder = scope.spawn(move || {
+                for (k, mut built) in rest.drain(..).enumerate() {
+                    build(&mut built, k + 1);
+                    if done.send(built).is_err() {
+                        break;
+                    }
+                }
+            });
+            let mut drawn = Ok(());
+            for (slot, &(view, r, id)) in shots.iter().enumerate() {
+                if slot > 0 {
+                    lists.push(next.recv().expect("the builder sends every list"));
+                }
+                let list = lists[slot].draw_list();
+                self.stream.upload(list.indices);
+                drawn = self.draw(ctx, mesh, slot, id, view, r, list.views);
+                if drawn.is_err() {
+                    break;
+                }
+            }
+            drop(next);
+            builder.join().expect("the builder does not panic");
+            drawn
+        });
+        self.culling = culling;
+        self.culling.missed += lists
+            .iter_mut()
+            .map(|l| std::mem::take(&mut l.missed))
+            .sum::<u64>();
+        self.plates = plates;
+        self.pass_lists = lists;
+        drawn
     }
 
     /// Upload the triangles each view draws from `shooter` (view matrix `view`, `r` pixels per
