@@ -263,12 +263,12 @@ mod tests {
             let layout = PatchLayout::new(&scene, Resolution::Patches(4096)).without_gutters();
             let wide = layout.atlas_width.div_ceil(BLOCK) as usize;
             let (blocks, starts) = patch_blocks(&layout, wide);
-            let width = layout.atlas_width as usize;
+            let (width, b) = (layout.atlas_width as usize, BLOCK as usize);
             for (p, [x0, y0, x1, y1]) in layout.texel_rects().into_iter().enumerate() {
                 let mine = &blocks[starts[p]..starts[p + 1]];
                 let expected: BTreeSet<u32> = (layout.owner.iter().enumerate())
                     .filter(|&(_, &o)| o == p as u32 + 1)
-                    .map(|(i, _)| ((i / width) / 4 * wide + (i % width) / 4) as u32)
+                    .map(|(i, _)| ((i / width) / b * wide + (i % width) / b) as u32)
                     .collect();
                 assert_eq!(
                     mine,
@@ -293,8 +293,8 @@ mod tests {
     fn a_concave_polygon_lists_fewer_blocks_than_its_rectangle() {
         // An L-shaped floor of three unit squares, merged into one polygon, under a small light:
         // a quarter of its rectangle holds no patch.
-        let dir = std::env::temp_dir().join(format!("radiosity-blocks-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let temp = tempfile::tempdir().unwrap();
+        let dir = temp.path();
         std::fs::write(
             dir.join("l.mtl"),
             "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1 1 1\n",
@@ -308,7 +308,6 @@ mod tests {
         )
         .unwrap();
         let scene = crate::scene::load_obj(&dir.join("l.obj")).unwrap();
-        std::fs::remove_dir_all(&dir).unwrap();
         assert_eq!(scene.polygons.len(), 2, "the L merged into one polygon");
         let layout = PatchLayout::new(&scene, Resolution::Patches(4096)).without_gutters();
         let wide = layout.atlas_width.div_ceil(BLOCK) as usize;

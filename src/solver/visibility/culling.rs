@@ -75,8 +75,8 @@ pub struct Culling {
     /// The lists of `draw_list` (those of `build` belong to the caller).
     lists: Lists,
     /// How many times a view left a polygon out as falling between the pixel centres, over all
-    /// shots (`Tuning::cull_between_samples`), but for those counted in lists not yet handed
-    /// to `count`.
+    /// shots (`Tuning::cull_between_samples`; `VisibilityPass::run_pass` adds its lists'
+    /// counts after each pass).
     pub missed: u64,
 }
 

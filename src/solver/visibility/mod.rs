@@ -339,11 +339,11 @@ impl VisibilityPass {
             culling.build(lists, triangles, &shooters[k], view, &plates, r);
         };
         build(&mut lists[0], 0);
-        let mut rest: Vec<Lists> = lists.drain(1..).collect();
+        let rest: Vec<Lists> = lists.drain(1..).collect();
         let drawn = std::thread::scope(|scope| {
             let (done, next) = std::sync::mpsc::channel();
             let builder = scope.spawn(move || {
-                for (k, mut built) in rest.drain(..).enumerate() {
+                for (k, mut built) in rest.into_iter().enumerate() {
                     build(&mut built, k + 1);
                     if done.send(built).is_err() {
                         break;
