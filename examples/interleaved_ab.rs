@@ -63,6 +63,7 @@ fn configuration(changes: &str) -> SolveOptions {
             "-plates" => t.plates = false,
             "-cull_solids" => t.cull_solids = false,
             "-cull_between_samples" => t.cull_between_samples = false,
+            "-cull_hidden" => t.cull_hidden = false,
             "-flush_visibility" => t.flush_visibility = false,
             other => panic!("unknown change '{other}' (see the file's comment)"),
         }

@@ -337,6 +337,18 @@ fn leaving_out_the_far_faces_of_solids_changes_nothing_but_float_noise() {
 }
 
 #[test]
+fn leaving_out_hidden_polygons_gives_the_same_lightmaps() {
+    // Polygons hidden behind nearer ones at every pixel centre they could cover
+    // (`visibility::occlusion`); tests/item_buffer.rs checks the item buffers pixel by pixel.
+    let off = |t: &mut Tuning| t.cull_hidden = false;
+    on_both_rooms(off, |name, mut culled, mut whole| {
+        let d = step_both(name, &mut culled, &mut whole, 40);
+        println!("{name}: L1 difference {d}");
+        assert_eq!(d, 0.0, "{name}");
+    });
+}
+
+#[test]
 fn leaving_out_polygons_between_pixel_centres_changes_no_pixel() {
     let off = |t: &mut Tuning| t.cull_between_samples = false;
     on_both_rooms(off, |name, mut culled, mut whole| {

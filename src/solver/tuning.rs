@@ -108,6 +108,12 @@ pub struct Tuning {
     /// per face, where a book's spine is a fraction of a pixel, and llvmpipe sets up and bins
     /// every triangle it is given on one thread. Bit-identical.
     pub cull_between_samples: bool,
+    /// Visibility (hemicube): the polygons hidden behind nearer ones are left out
+    /// (`visibility::occlusion`): a cube of directions around the shooter records how near a
+    /// drawn triangle covers each cell wholly, and what lies behind that in every cell it
+    /// reaches cannot show. A small shot on Lost Empire shows about 200 of the 17,000 polygons
+    /// in front of it. Bit-identical.
+    pub cull_hidden: bool,
     /// Visibility: a glFlush at the end of the pass, so that llvmpipe rasterises the item
     /// buffer while the CPU picks the receivers (otherwise it waits until the reconstruction
     /// binds the item buffer). Bit-identical.
@@ -140,6 +146,7 @@ impl Tuning {
             plates: true,
             cull_solids: true,
             cull_between_samples: true,
+            cull_hidden: true,
             flush_visibility: true,
             float_depth: true,
         }
@@ -166,6 +173,7 @@ impl Tuning {
             plates: false,
             cull_solids: false,
             cull_between_samples: false,
+            cull_hidden: false,
             flush_visibility: false,
             float_depth: true,
         }

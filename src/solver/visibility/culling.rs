@@ -9,6 +9,7 @@
 //! [`Culling::asked`] says whether any of it runs; without it the pass draws
 //! [`DrawList::whole`], the scene's triangles as they are.
 
+use super::occlusion::{self, Occluders};
 use super::plates::Plates;
 use super::samples::{self, Outlines};
 use super::solids::Solids;
@@ -61,6 +62,8 @@ pub struct Culling {
     tuning: Tuning,
     /// The near plane's distance (the pass's `near_far[0]`).
     near: f32,
+    /// The far plane's distance (the pass's `near_far[1]`).
+    far: f32,
     /// The hemicube faces' guard band (`VisibilityPass`'s `guard`, 1 on the hemisphere).
     guard: i32,
     /// Each polygon's bounding sphere (centre, radius); a plate's around the whole plate.
@@ -72,12 +75,17 @@ pub struct Culling {
     pub(super) solids: Solids,
     /// Each drawn polygon's corners, for `Tuning::cull_between_samples`.
     outlines: Outlines,
+    /// The drawn polygons' triangles and a tree of their boxes, for `Tuning::cull_hidden`.
+    occluders: Occluders,
     /// The lists of `draw_list` (those of `build` belong to the caller).
     lists: Lists,
     /// How many times a view left a polygon out as falling between the pixel centres, over all
     /// shots (`Tuning::cull_between_samples`; `VisibilityPass::run_pass` adds its lists'
     /// counts after each pass).
     pub missed: u64,
+    /// How many polygons in front of a shooter were left out as hidden, over all shots
+    /// (`Tuning::cull_hidden`; counted as `missed` is).
+    pub hidden: u64,
 }
 
 /// The triangles of a [`SceneMesh`] without its GL objects, which stay on the GL thread.
@@ -117,6 +125,10 @@ pub struct Lists {
     /// How many times a view of this shot left a polygon out as falling between the pixel
     /// centres.
     pub missed: u64,
+    /// The hidden polygons' test's scratch space (`Tuning::cull_hidden`).
+    occlusion: occlusion::Scratch,
+    /// How many polygons in front of the shooters were left out as hidden.
+    pub hidden: u64,
 }
 
 impl Lists {
@@ -140,19 +152,44 @@ impl Culling {
     }
 
     /// The culling of `scene`'s polygons, every polygon alone (see [`Culling::use_plates`]), for
-    /// views with near plane `near` and guard band `guard`.
-    pub fn new(scene: &Scene, kind: VisibilityKind, tuning: Tuning, near: f32, guard: i32) -> Self {
+    /// views with near and far planes `near_far` and guard band `guard`.
+    pub fn new(
+        scene: &Scene,
+        kind: VisibilityKind,
+        tuning: Tuning,
+        near_far: [f32; 2],
+        guard: i32,
+    ) -> Self {
+        let none = Plates::none(scene.polygons.len());
         Culling {
             kind,
             tuning,
-            near,
+            near: near_far[0],
+            far: near_far[1],
             guard,
             spheres: scene.polygons.iter().map(|p| p.bounding_sphere()).collect(),
             planes: scene.polygons.iter().map(|p| p.plane()).collect(),
             solids: Solids::find(scene),
-            outlines: Outlines::new(scene, &Plates::none(scene.polygons.len())),
+            outlines: Outlines::new(scene, &none),
+            occluders: Self::occluders_of(scene, kind, &tuning, &none),
             lists: Lists::default(),
             missed: 0,
+            hidden: 0,
+        }
+    }
+
+    /// What `Tuning::cull_hidden` needs (only on the hemicube: the hemispherical projection draws
+    /// straight edges where the true outline curves).
+    fn occluders_of(
+        scene: &Scene,
+        kind: VisibilityKind,
+        tuning: &Tuning,
+        plates: &Plates,
+    ) -> Occluders {
+        if tuning.cull_hidden && kind == VisibilityKind::Hemicube {
+            Occluders::new(scene, plates)
+        } else {
+            Occluders::default()
         }
     }
 
@@ -164,8 +201,10 @@ impl Culling {
             planes: Vec::new(),
             solids: Solids::default(),
             outlines: Outlines::default(),
+            occluders: Occluders::default(),
             lists: Lists::default(),
             missed: 0,
+            hidden: 0,
             ..*self
         };
         std::mem::replace(self, empty)
@@ -177,6 +216,7 @@ impl Culling {
             self.spheres[p] = sphere_around(mean(outline), outline);
         }
         self.outlines = Outlines::new(scene, plates);
+        self.occluders = Self::occluders_of(scene, self.kind, &self.tuning, plates);
     }
 
     /// The triangles of `mesh` each view draws for `shooter` (whose view matrix is `view`), at
@@ -192,6 +232,7 @@ impl Culling {
         let mut lists = std::mem::take(&mut self.lists);
         self.build(&mut lists, Triangles::of(mesh), shooter, view, plates, res);
         self.missed += std::mem::take(&mut lists.missed);
+        self.hidden += std::mem::take(&mut lists.hidden);
         self.lists = lists;
         self.lists.draw_list()
     }
@@ -208,6 +249,33 @@ impl Culling {
         res: i32,
     ) {
         self.find_in_front(lists, shooter, view, plates);
+        if self.tuning.cull_hidden && self.kind == VisibilityKind::Hemicube {
+            let Lists {
+                occlusion,
+                in_front,
+                ..
+            } = lists;
+            let r = res.max(1) as usize;
+            let views = occlusion::Views {
+                s: shooter.position,
+                normal: shooter.normal,
+                view,
+                rotations: face_rotations(),
+                r,
+                drawn: std::array::from_fn(|k| {
+                    let rect = if self.tuning.half_side_faces {
+                        super::front_half(k, r as i32)
+                    } else {
+                        [0, 0, r as i32, r as i32]
+                    };
+                    rect.map(|x| x as usize)
+                }),
+            };
+            lists.hidden += self
+                .occluders
+                .retain_shown(occlusion, &views, self.near, self.far, in_front)
+                as u64;
+        }
         let views = match self.kind {
             VisibilityKind::Hemisphere => 1,
             VisibilityKind::Hemicube => 5,

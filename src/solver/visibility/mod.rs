@@ -21,6 +21,7 @@
 //! band around each hemicube face, half side faces, float depth, and a glFlush at the end.
 
 pub mod culling;
+pub mod occlusion;
 pub mod plates;
 pub mod samples;
 pub mod solids;
@@ -210,7 +211,7 @@ impl VisibilityPass {
             near_far,
             drawn: (width, res),
             plates: Plates::none(scene.polygons.len()),
-            culling: Culling::new(scene, kind, tuning, near_far[0], guard),
+            culling: Culling::new(scene, kind, tuning, near_far, guard),
             culls: Culling::asked(&tuning, kind),
             stream: IndexStream::new(gl)?,
             pass_lists: Vec::new(),
@@ -367,10 +368,10 @@ impl VisibilityPass {
             drawn
         });
         self.culling = culling;
-        self.culling.missed += lists
-            .iter_mut()
-            .map(|l| std::mem::take(&mut l.missed))
-            .sum::<u64>();
+        for l in &mut lists {
+            self.culling.missed += std::mem::take(&mut l.missed);
+            self.culling.hidden += std::mem::take(&mut l.hidden);
+        }
         self.plates = plates;
         self.pass_lists = lists;
         drawn
@@ -490,6 +491,12 @@ impl VisibilityPass {
     /// passes (`Tuning::cull_between_samples`).
     pub fn missed(&self) -> u64 {
         self.culling.missed
+    }
+
+    /// How many polygons in front of a shooter were left out as hidden, over all passes
+    /// (`Tuning::cull_hidden`).
+    pub fn hidden(&self) -> u64 {
+        self.culling.hidden
     }
 
     /// The item buffer of slot `slot` (`run_in_slot`).

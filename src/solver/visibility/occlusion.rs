@@ -1,0 +1,717 @@
+//! Polygons hidden behind nearer ones, left out of a shot's views (`Tuning::cull_hidden`; not in
+//! the paper, which draws the whole scene into each view).
+//!
+//! Why: on Lost Empire a small shot's views drew about 55,000 triangles (17,000 polygons in front
+//! of the shooter, half the world), and about 200 polygons showed in the item buffer: the rest
+//! lay behind the walls of the cave or valley the shooter stands in. llvmpipe transforms, sets
+//! up and bins every triangle it is given on the thread that issues the draws.
+//!
+//! How: the views' own pixel centres, for this shot's resolution and turn, each record how far
+//! along its ray the nearest drawn polygon met so far lies. A tree of boxes around the polygons
+//! is walked nearest first; a box is left out, with all it holds, when at every drawn pixel
+//! centre its projection can reach, something nearer is already recorded; a polygon that is
+//! kept records itself at the centres it covers, piece by convex piece.
+//!
+//! Why it changes no pixel: a polygon left out lies, at every pixel centre it could cover,
+//! behind a polygon that is drawn there (kept polygons are drawn in every view where they
+//! cover a pixel centre), so the depth test would have hidden it. Margins keep it so through
+//! the GPU's rounding: a centre counts as covered only 1/64 pixel inside a piece, a box reaches
+//! 1/64 pixel beyond its projection, and nearer means nearer by 0.2 % (a float depth buffer at
+//! the far end of the views tells distances apart to about 0.06 %). A piece covers only if the
+//! near plane cannot clip it, and the far plane neither. The exception: a polygon whose plane
+//! passes through the eye is drawn as triangles of no area whose depths are noise, and the
+//! GPU may show it at a centre in front of what lies nearer; left out, the centre shows the
+//! nearer polygon (tests/item_buffer.rs checks that those are the only pixels that change).
+
+use super::plates::Plates;
+use crate::scene::{triangulate, Scene};
+use glam::{Mat3, Mat4, Vec3};
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+/// Polygons per leaf of the tree.
+const LEAF: usize = 4;
+
+/// How much nearer than a box what covers a pixel centre must be (relative): the GPU compares
+/// depths, not distances, and a float depth buffer at the far end of the views (near 1e-4, far
+/// 2 × the scene's size) tells apart distances only about 6e-4 apart.
+const NEARER: f32 = 2e-3;
+
+/// How far behind the shooter's plane a box must lie to be left out without a look (radians
+/// below the horizon, about): more than the float noise of the views' transforms.
+const BEHIND: f32 = 1e-4;
+
+/// The scene's polygons as the visibility pass draws them, for the test: a tree of boxes and
+/// each polygon's convex pieces. Built once per scene (and again for plates).
+#[derive(Clone, Debug, Default)]
+pub struct Occluders {
+    /// The tree, root first; see [`Node`].
+    nodes: Vec<Node>,
+    /// The drawn polygons in leaf order.
+    order: Vec<u32>,
+    /// Per polygon: its drawn outline's box (lower, upper corner).
+    boxes: Vec<(Vec3, Vec3)>,
+
+    /// Per polygon: its convex pieces in `pieces`, `starts[p]..starts[p + 1]`.
+    starts: Vec<u32>,
+    /// Every drawn polygon's convex pieces (its outline if convex, else its triangles): each
+    /// piece's corners in `corners`, `pieces[k]..pieces[k + 1]`.
+    pieces: Vec<u32>,
+    /// The pieces' corners.
+    corners: Vec<Vec3>,
+}
+
+/// The most corners a convex outline may have to be one piece (more: its triangles).
+const MAX_PIECE: usize = 16;
+
+/// `outline` (counter-clockwise about `normal`, concave) as convex pieces of corner indices:
+/// its triangles, merged across their shared edges while the union stays convex and within
+/// [`MAX_PIECE`] corners (Hertel and Mehlhorn's greedy pass: at most four times the fewest
+/// pieces). A merged voxel wall becomes a few rectangles instead of dozens of triangles, and
+/// fewer pieces cover more pixel centres whole.
+fn convex_pieces(outline: &[Vec3], normal: Vec3) -> Vec<Vec<usize>> {
+    let mut pieces: Vec<Option<Vec<usize>>> = triangulate(outline, normal)
+        .into_iter()
+        .map(|t| Some(t.to_vec()))
+        .collect();
+    let corners = |piece: &[usize]| piece.iter().map(|&k| outline[k]).collect::<Vec<_>>();
+    // Directed edge → the piece that has it.
+    let mut edges = std::collections::HashMap::new();
+    for (i, piece) in pieces.iter().enumerate() {
+        let piece = piece.as_ref().expect("every piece is live at first");
+        for k in 0..piece.len() {
+            edges.insert((piece[k], piece[(k + 1) % piece.len()]), i);
+        }
+    }
+    for i in 0..pieces.len() {
+        let mut k = 0;
+        while let Some(piece) = &pieces[i] {
+            if k >= piece.len() {
+                break;
+            }
+            let (a, b) = (piece[k], piece[(k + 1) % piece.len()]);
+            let Some(&j) = edges.get(&(b, a)) else {
+                k += 1;
+                continue;
+            };
+            let other = pieces[j].as_ref().expect("edges name live pieces");
+            // This piece from b round to a, then the other's corners after a up to b.
+            let at_b = (k + 1) % piece.len();
+            let mut merged: Vec<usize> = (0..piece.len())
+                .map(|m| piece[(at_b + m) % piece.len()])
+                .collect();
+            let at_a = other.iter().position(|&c| c == a).expect("the shared edge");
+            merged.extend((1..other.len() - 1).map(|m| other[(at_a + m) % other.len()]));
+            if j == i || merged.len() > MAX_PIECE || !convex(&corners(&merged), normal) {
+                k += 1;
+                continue;
+            }
+            let other = pieces[j].take().expect("live");
+            for m in 0..other.len() {
+                edges.remove(&(other[m], other[(m + 1) % other.len()]));
+            }
+            for m in 0..merged.len() {
+                edges.insert((merged[m], merged[(m + 1) % merged.len()]), i);
+            }
+            edges.remove(&(a, b));
+            pieces[i] = Some(merged);
+            k = 0;
+        }
+    }
+    pieces.into_iter().flatten().collect()
+}
+
+/// Whether `outline` (counter-clockwise about `normal`) is convex: no corner turns the other way.
+fn convex(outline: &[Vec3], normal: Vec3) -> bool {
+    let n = outline.len();
+    (0..n).all(|i| {
+        let (a, b, c) = (outline[i], outline[(i + 1) % n], outline[(i + 2) % n]);
+        (b - a).cross(c - b).dot(normal) >= 0.0
+    })
+}
+
+/// A box of the tree: an inner node's children are `first` and `first + 1` (`count` 0), a leaf
+/// holds `order[first..first + count]`.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    lo: Vec3,
+    hi: Vec3,
+    first: u32,
+    count: u32,
+}
+
+/// One shot's scratch space (kept from shot to shot, one per list builder).
+#[derive(Clone, Debug, Default)]
+pub struct Scratch {
+    /// Per pixel of the five faces: how far along its centre's ray the nearest kept polygon
+    /// lies (∞: none yet; −∞: a pixel not drawn, `Views::drawn`).
+    cover: Vec<f32>,
+    /// The shot's number, stamped into `candidate` and `kept` (no clearing per shot).
+    stamp: u32,
+    /// Per polygon: the stamp of the last shot that would draw it.
+    candidate: Vec<u32>,
+    /// Per polygon: the stamp of the last shot that kept it.
+    kept: Vec<u32>,
+    /// The walk's boxes, nearest first.
+    heap: BinaryHeap<(Reverse<u32>, u32)>,
+}
+
+impl Occluders {
+    /// The polygons drawn under `plates` (each plate as its representative's outline).
+    pub fn new(scene: &Scene, plates: &Plates) -> Occluders {
+        let n = scene.polygons.len();
+        let mut o = Occluders {
+            boxes: vec![(Vec3::ZERO, Vec3::ZERO); n],
+
+            starts: Vec::with_capacity(n + 1),
+            ..Occluders::default()
+        };
+        let mut drawn = Vec::new();
+        for (p, polygon) in scene.polygons.iter().enumerate() {
+            o.starts.push(o.pieces.len() as u32);
+            if plates.representative[p] != p {
+                continue;
+            }
+            let outline = plates.outlines.get(&p).unwrap_or(&polygon.vertices);
+            let (lo, hi) = outline.iter().fold(
+                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+                |(lo, hi), &v| (lo.min(v), hi.max(v)),
+            );
+            o.boxes[p] = (lo, hi);
+            if outline.len() <= MAX_PIECE && convex(outline, polygon.normal) {
+                o.pieces.push(o.corners.len() as u32);
+                o.corners.extend_from_slice(outline);
+            } else {
+                for piece in convex_pieces(outline, polygon.normal) {
+                    o.pieces.push(o.corners.len() as u32);
+                    o.corners.extend(piece.iter().map(|&k| outline[k]));
+                }
+            }
+            drawn.push(p as u32);
+        }
+        o.starts.push(o.pieces.len() as u32);
+        o.pieces.push(o.corners.len() as u32);
+        if !drawn.is_empty() {
+            o.nodes.push(Node {
+                lo: Vec3::ZERO,
+                hi: Vec3::ZERO,
+                first: 0,
+                count: 0,
+            });
+            o.build(0, &mut drawn);
+        }
+        o
+    }
+
+    /// Make node `at` the box around `polygons` (which end up in `order`), splitting at the
+    /// median of their centres along the widest axis down to leaves of [`LEAF`].
+    fn build(&mut self, at: usize, polygons: &mut [u32]) {
+        let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+        let (mut clo, mut chi) = (lo, hi);
+        for &p in polygons.iter() {
+            let (a, b) = self.boxes[p as usize];
+            lo = lo.min(a);
+            hi = hi.max(b);
+            clo = clo.min(a + b);
+            chi = chi.max(a + b);
+        }
+        if polygons.len() <= LEAF {
+            self.nodes[at] = Node {
+                lo,
+                hi,
+                first: self.order.len() as u32,
+                count: polygons.len() as u32,
+            };
+            self.order.extend_from_slice(polygons);
+            return;
+        }
+        let axis = (chi - clo).max_position();
+        let boxes = &self.boxes;
+        let centre = |p: &u32| {
+            let (a, b) = boxes[*p as usize];
+            a[axis] + b[axis]
+        };
+        let half = polygons.len() / 2;
+        polygons.select_nth_unstable_by(half, |a, b| centre(a).total_cmp(&centre(b)));
+        let first = self.nodes.len();
+        let empty = self.nodes[at];
+        self.nodes.extend([empty, empty]);
+        self.nodes[at] = Node {
+            lo,
+            hi,
+            first: first as u32,
+            count: 0,
+        };
+        let (left, right) = polygons.split_at_mut(half);
+        self.build(first, left);
+        self.build(first + 1, right);
+    }
+
+    /// Keep in `in_front` (polygon, …) only the polygons that may show from a shooter at `s`
+    /// with normal `normal`, in their order; `near`/`far`: the views' clipping distances.
+    /// Returns how many were left out.
+    pub fn retain_shown(
+        &self,
+        scratch: &mut Scratch,
+        views: &Views,
+        near: f32,
+        far: f32,
+        in_front: &mut Vec<(usize, Vec3, f32)>,
+    ) -> usize {
+        if self.nodes.is_empty() {
+            return 0;
+        }
+        let n = self.boxes.len();
+        if scratch.candidate.len() != n {
+            scratch.candidate = vec![0; n];
+            scratch.kept = vec![0; n];
+            scratch.stamp = 0;
+        }
+        scratch.stamp = scratch.stamp.wrapping_add(1);
+        if scratch.stamp == 0 {
+            scratch.candidate.fill(0);
+            scratch.kept.fill(0);
+            scratch.stamp = 1;
+        }
+        let stamp = scratch.stamp;
+        for &(p, _, _) in in_front.iter() {
+            scratch.candidate[p] = stamp;
+        }
+        views.clear(&mut scratch.cover);
+        let walk = Walk {
+            views,
+            clear: 2.0 * near * 3f32.sqrt(),
+            far,
+        };
+        scratch.heap.clear();
+        let root = &self.nodes[0];
+        scratch
+            .heap
+            .push((Reverse(walk.distance(root.lo, root.hi).to_bits()), 0));
+        while let Some((Reverse(bits), at)) = scratch.heap.pop() {
+            let node = self.nodes[at as usize];
+            if walk.hidden(&scratch.cover, f32::from_bits(bits), node.lo, node.hi) {
+                continue;
+            }
+            if node.count == 0 {
+                for child in [node.first, node.first + 1] {
+                    let c = &self.nodes[child as usize];
+                    let d = walk.distance(c.lo, c.hi);
+                    scratch.heap.push((Reverse(d.to_bits()), child));
+                }
+                continue;
+            }
+            for &p in &self.order[node.first as usize..(node.first + node.count) as usize] {
+                let p = p as usize;
+                if scratch.candidate[p] != stamp {
+                    continue;
+                }
+                let (lo, hi) = self.boxes[p];
+                if walk.hidden(&scratch.cover, walk.distance(lo, hi), lo, hi) {
+                    continue;
+                }
+                scratch.kept[p] = stamp;
+                let range = self.starts[p] as usize..self.starts[p + 1] as usize;
+                let faces = walk.faces_reached(lo, hi);
+                for k in range {
+                    let piece = &self.corners[self.pieces[k] as usize..self.pieces[k + 1] as usize];
+                    walk.cover(&mut scratch.cover, piece, faces);
+                }
+            }
+        }
+        let before = in_front.len();
+        in_front.retain(|&(p, _, _)| scratch.kept[p] == stamp);
+        before - in_front.len()
+    }
+}
+
+/// One shot's views as the GPU draws them: the shooter's view (world to its eye space), each
+/// hemicube face's rotation of that eye space (the face looks down -z, a 90° frustum), `r`
+/// pixels a side, and the part of each face drawn (x, y, width, height;
+/// `Tuning::half_side_faces`).
+pub struct Views {
+    /// The shooter's position.
+    pub s: Vec3,
+    /// The shooter's normal.
+    pub normal: Vec3,
+    /// World to the shooter's eye space.
+    pub view: Mat4,
+    /// Each face's rotation of the eye space (`face_rotations`).
+    pub rotations: [Mat3; 5],
+    /// Pixels per face side.
+    pub r: usize,
+    /// The drawn part of each face.
+    pub drawn: [[usize; 4]; 5],
+}
+
+/// `x.floor()` without a call into the C library (no SSE4.1 rounding by default); exact for
+/// |x| < 2³¹, and saturating beyond, which the callers clamp.
+fn floor(x: f32) -> f32 {
+    let i = x as i32 as f32;
+    if i > x {
+        i - 1.0
+    } else {
+        i
+    }
+}
+
+impl Views {
+    /// Every drawn pixel uncovered (∞), the others covered at any depth (−∞: nothing there is
+    /// ever read, so nothing behind them matters).
+    fn clear(&self, cover: &mut Vec<f32>) {
+        let r = self.r;
+        cover.clear();
+        cover.resize(5 * r * r, f32::NEG_INFINITY);
+        for (k, &[x, y, w, h]) in self.drawn.iter().enumerate() {
+            for row in y..y + h {
+                let at = k * r * r + row * r;
+                cover[at + x..at + x + w].fill(f32::INFINITY);
+            }
+        }
+    }
+
+    /// How far inside a piece (NDC) a pixel centre must lie to count as covered, and how far
+    /// outside a box's projection one still counts as reached: more than llvmpipe's vertex
+    /// snapping (1/256 pixel), and the float noise between this transform and the GPU's.
+    fn margin(&self) -> f32 {
+        2.0 / self.r as f32 / 64.0 + 1e-4
+    }
+
+    /// The pixels of a face whose centres lie within [lo, hi] (NDC, widened by `margin`; an
+    /// empty range when first > last).
+    fn pixels(&self, lo: f32, hi: f32, margin: f32) -> (usize, usize) {
+        let r = self.r as f32;
+        let first = -floor(-((lo - margin + 1.0) * 0.5 * r - 0.5));
+        let last = floor((hi + margin + 1.0) * 0.5 * r - 0.5).min(r - 1.0);
+        if first > last || last < 0.0 {
+            (1, 0)
+        } else {
+            (first.max(0.0) as usize, last as usize)
+        }
+    }
+}
+
+/// One shot's walk: its views, and the clipping distances.
+struct Walk<'a> {
+    views: &'a Views,
+    /// A piece whose plane lies nearer than this may be clipped by the near plane.
+    clear: f32,
+    far: f32,
+}
+
+/// Bounds of x / w over lo ≤ x ≤ hi, 0 < w ≤ w_hi (w_lo ≤ 0: w reaches down to 0), clamped to a
+/// face's [-1, 1].
+fn tangent_range(lo: f32, hi: f32, w_lo: f32, w_hi: f32) -> (f32, f32) {
+    let (a, b) = if w_lo > 0.0 {
+        ((lo / w_lo).min(lo / w_hi), (hi / w_lo).max(hi / w_hi))
+    } else {
+        (
+            if lo >= 0.0 { lo / w_hi } else { -1.0 },
+            if hi <= 0.0 { hi / w_hi } else { 1.0 },
+        )
+    };
+    (a.max(-1.0), b.min(1.0))
+}
+
+impl Walk<'_> {
+    /// The distance from the shooter to the box.
+    fn distance(&self, lo: Vec3, hi: Vec3) -> f32 {
+        let s = self.views.s;
+        (lo - s).max(s - hi).max(Vec3::ZERO).length()
+    }
+
+    /// Whether nothing in the box (lower corner `lo`, upper `hi`, at `distance`) can show: it
+    /// lies wholly behind the shooter's plane, or at every drawn pixel centre its projection
+    /// can reach something is drawn nearer.
+    fn hidden(&self, cover: &[f32], distance: f32, lo: Vec3, hi: Vec3) -> bool {
+        let v = self.views;
+        // The farthest the box reaches along the normal: at the corner picked per axis. Strictly
+        // behind the plane: a pixel centre may lie on the horizon itself (an odd side), and a
+        // polygon touching the plane may cover it.
+        let reach = Vec3::select(v.normal.cmpgt(Vec3::ZERO), hi, lo) - v.s;
+        if reach.dot(v.normal) < -BEHIND * reach.length() {
+            return true;
+        }
+        let limit = distance * (1.0 - NEARER);
+        if limit <= self.clear {
+            return false;
+        }
+        // The box around the box in eye space, then in each face's space (a face's rotation
+        // permutes the axes, so its box is exact there).
+        let rotation = Mat3::from_mat4(v.view);
+        let centre = v.view.transform_point3(0.5 * (lo + hi));
+        let half = abs(&rotation) * (0.5 * (hi - lo));
+        let (r, m) = (v.r, v.margin());
+        for (k, face) in v.rotations.iter().enumerate() {
+            let c = *face * centre;
+            let e = abs(face) * half;
+            let (qlo, qhi) = (c - e, c + e);
+            // Depth along the face's axis: w = -z.
+            let (w_lo, w_hi) = (-qhi.z, -qlo.z);
+            if w_hi <= 0.0 {
+                continue;
+            }
+            let (u0, u1) = tangent_range(qlo.x, qhi.x, w_lo, w_hi);
+            let (v0, v1) = tangent_range(qlo.y, qhi.y, w_lo, w_hi);
+            let ((i0, i1), (j0, j1)) = (v.pixels(u0, u1, m), v.pixels(v0, v1, m));
+            if i0 > i1 || j0 > j1 {
+                continue;
+            }
+            for j in j0..=j1 {
+                let at = k * r * r + j * r;
+                if cover[at + i0..=at + i1].iter().any(|&d| d >= limit) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// The faces (bit k: face k) in whose frustum part of the box (lower corner `lo`, upper
+    /// `hi`) may lie.
+    fn faces_reached(&self, lo: Vec3, hi: Vec3) -> u8 {
+        let v = self.views;
+        let rotation = Mat3::from_mat4(v.view);
+        let centre = v.view.transform_point3(0.5 * (lo + hi));
+        let half = abs(&rotation) * (0.5 * (hi - lo));
+        let mut faces = 0;
+        for (k, face) in v.rotations.iter().enumerate() {
+            let c = *face * centre;
+            let e = abs(face) * half;
+            let (qlo, qhi) = (c - e, c + e);
+            let (w_lo, w_hi) = (-qhi.z, -qlo.z);
+            if w_hi <= 0.0 {
+                continue;
+            }
+            let (u0, u1) = tangent_range(qlo.x, qhi.x, w_lo, w_hi);
+            let (v0, v1) = tangent_range(qlo.y, qhi.y, w_lo, w_hi);
+            if u0 <= u1 && v0 <= v1 {
+                faces |= 1 << k;
+            }
+        }
+        faces
+    }
+
+    /// Record, at each pixel centre the convex `piece` (within the faces `faces`) covers, how far along the centre's ray it
+    /// lies (if nearer than what is recorded).
+    fn cover(&self, cover: &mut [f32], piece: &[Vec3], faces: u8) {
+        let v = self.views;
+        let n = piece.len();
+        // Newell's normal: the piece's plane, whatever its corners.
+        let mut normal = Vec3::ZERO;
+        for k in 0..n {
+            normal += piece[k].cross(piece[(k + 1) % n]);
+        }
+        let length = normal.length();
+        // Too near (the near plane could clip it), degenerate, or beyond the far plane.
+        if length == 0.0 || (normal.dot(piece[0] - v.s) / length).abs() <= self.clear {
+            return;
+        }
+        let farthest = piece
+            .iter()
+            .map(|&p| (p - v.s).length())
+            .fold(0.0, f32::max);
+        // (NaN, from a piece at infinity, fails too.)
+        if farthest.partial_cmp(&self.far) != Some(std::cmp::Ordering::Less) {
+            return;
+        }
+        let mut eye = [Vec3::ZERO; MAX_PIECE];
+        for (e, &p) in eye.iter_mut().zip(piece) {
+            *e = v.view.transform_point3(p);
+        }
+        let eye_normal = v.view.transform_vector3(normal);
+        let (r, m) = (v.r, v.margin());
+        let pixel = 2.0 / r as f32;
+        for (k, face) in v.rotations.iter().enumerate() {
+            if faces & (1 << k) == 0 {
+                continue;
+            }
+            let mut q0 = Vec3::ZERO;
+            let mut p = [glam::Vec2::ZERO; MAX_PIECE];
+            let mut behind = false;
+            for i in 0..n {
+                let q = *face * eye[i];
+                if -q.z <= 0.0 {
+                    behind = true;
+                    break;
+                }
+                if i == 0 {
+                    q0 = q;
+                }
+                p[i] = glam::Vec2::new(q.x, q.y) / -q.z;
+            }
+            if behind {
+                continue;
+            }
+            let p = &p[..n];
+            let (lo, hi) = p.iter().fold(
+                (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN)),
+                |(lo, hi), &t| (lo.min(t), hi.max(t)),
+            );
+            let ((i0, i1), (j0, j1)) = (v.pixels(lo.x, hi.x, -m), v.pixels(lo.y, hi.y, -m));
+            if i0 > i1 || j0 > j1 {
+                continue;
+            }
+            let area: f32 = (0..n).map(|i| p[i].perp_dot(p[(i + 1) % n])).sum();
+            if area == 0.0 {
+                continue;
+            }
+            let turn = area.signum();
+            // The piece's plane in face space: a centre's ray (x, y, -1) meets it at depth t.
+            let plane = *face * eye_normal;
+            let offset = plane.dot(q0);
+            for j in j0..=j1 {
+                let y = (j as f32 + 0.5) * pixel - 1.0;
+                // The centres of this row inside every edge by the margin: each edge's test
+                // turn · (along × (c − from)) ≥ m·|along| is a bound on c.x along the row.
+                let (mut left, mut right) = (-1.0f32, 1.0f32);
+                for i in 0..n {
+                    let (from, to) = (p[i], p[(i + 1) % n]);
+                    let along = to - from;
+                    let a = -turn * along.y;
+                    let b = turn * along.x * (y - from.y) + turn * along.y * from.x
+                        - m * along.length();
+                    if a > 0.0 {
+                        left = left.max(-b / a);
+                    } else if a < 0.0 {
+                        right = right.min(-b / a);
+                    } else if b < 0.0 {
+                        right = -2.0;
+                    }
+                }
+                let (i0, i1) = v.pixels(left, right, 0.0);
+                let row = k * r * r + j * r;
+                for i in i0..=i1 {
+                    let ray = Vec3::new((i as f32 + 0.5) * pixel - 1.0, y, -1.0);
+                    let t = offset / plane.dot(ray);
+                    if t > 0.0 {
+                        let d = &mut cover[row + i];
+                        *d = d.min(t * ray.length());
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The matrix of absolute values (to carry a box's half extents through a rotation).
+fn abs(m: &Mat3) -> Mat3 {
+    Mat3::from_cols(m.x_axis.abs(), m.y_axis.abs(), m.z_axis.abs())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::visibility::face_rotations;
+
+    /// A shot from the origin looking up +z (its eye space's -z), `r` pixels a face, every
+    /// pixel drawn.
+    fn views(r: usize) -> Views {
+        Views {
+            s: Vec3::ZERO,
+            normal: Vec3::Z,
+            view: Mat4::look_at_rh(Vec3::ZERO, Vec3::Z, Vec3::Y),
+            rotations: face_rotations(),
+            r,
+            drawn: [[0, 0, r, r]; 5],
+        }
+    }
+
+    fn walk(views: &Views) -> Walk<'_> {
+        Walk {
+            views,
+            clear: 1e-3,
+            far: 100.0,
+        }
+    }
+
+    fn square(z: f32, half: f32) -> Vec<Vec3> {
+        [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .iter()
+            .map(|&(x, y)| Vec3::new(x * half, y * half, z))
+            .collect()
+    }
+
+    #[test]
+    fn a_ceiling_over_the_front_face_hides_what_lies_beyond_it_and_nothing_nearer() {
+        let v = views(8);
+        let w = walk(&v);
+        let mut cover = Vec::new();
+        v.clear(&mut cover);
+        // A ceiling at height 1 reaching 45° each way covers the whole front face.
+        w.cover(&mut cover, &square(1.0, 1.01), 0b11111);
+        let front = &cover[..64];
+        assert!(front.iter().all(|&d| (1.0..=3f32.sqrt()).contains(&d)));
+        // Beyond the ceiling, a box is hidden.
+        let (lo, hi) = (Vec3::new(-0.5, -0.5, 2.0), Vec3::new(0.5, 0.5, 3.0));
+        assert!(w.hidden(&cover, w.distance(lo, hi), lo, hi));
+        // Below it (nearer), it is not.
+        let (lo, hi) = (Vec3::new(-0.1, -0.1, 0.5), Vec3::new(0.1, 0.1, 0.6));
+        assert!(!w.hidden(&cover, w.distance(lo, hi), lo, hi));
+        // Beyond it but reaching past its edge into a side face, where nothing covers: kept.
+        let (lo, hi) = (Vec3::new(2.0, -0.5, 1.5), Vec3::new(3.0, 0.5, 2.0));
+        assert!(!w.hidden(&cover, w.distance(lo, hi), lo, hi));
+    }
+
+    #[test]
+    fn a_piece_between_pixel_centres_covers_none_and_an_undrawn_pixel_hides_everything() {
+        let mut v = views(4);
+        let w = walk(&v);
+        let mut cover = Vec::new();
+        v.clear(&mut cover);
+        // Centres of the front face lie at tangent ±0.25, ±0.75: a square of half 0.2 around
+        // the middle covers none.
+        w.cover(&mut cover, &square(1.0, 0.2), 0b11111);
+        assert!(cover[..16].iter().all(|d| d.is_infinite()));
+        // A face of which nothing is drawn: a box seen only there is hidden.
+        v.drawn = [[0, 0, 0, 0]; 5];
+        let w = walk(&v);
+        v.clear(&mut cover);
+        let (lo, hi) = (Vec3::new(-0.5, -0.5, 2.0), Vec3::new(0.5, 0.5, 3.0));
+        assert!(w.hidden(&cover, w.distance(lo, hi), lo, hi));
+    }
+
+    #[test]
+    fn a_box_behind_the_shooters_plane_is_hidden_and_one_touching_it_is_not() {
+        let v = views(8);
+        let w = walk(&v);
+        let mut cover = Vec::new();
+        v.clear(&mut cover);
+        let behind = (Vec3::new(1.0, 1.0, -2.0), Vec3::new(5.0, 5.0, -0.01));
+        assert!(w.hidden(&cover, w.distance(behind.0, behind.1), behind.0, behind.1));
+        // Touching the plane: it may cover a pixel centre on the horizon.
+        let flat = (Vec3::new(1.0, 1.0, -2.0), Vec3::new(5.0, 5.0, 0.0));
+        assert!(!w.hidden(&cover, w.distance(flat.0, flat.1), flat.0, flat.1));
+    }
+
+    #[test]
+    fn a_concave_outline_becomes_fewer_convex_pieces_than_triangles() {
+        // An L of three unit squares: two convex pieces (it cannot be fewer), four triangles.
+        let l: Vec<Vec3> = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]
+            .iter()
+            .map(|&(x, y)| Vec3::new(x as f32, y as f32, 0.0))
+            .collect();
+        let pieces = convex_pieces(&l, Vec3::Z);
+        assert_eq!(pieces.len(), 2, "{pieces:?}");
+        let corners: Vec<Vec<Vec3>> = (pieces.iter())
+            .map(|p| p.iter().map(|&k| l[k]).collect())
+            .collect();
+        assert!(corners.iter().all(|c| convex(c, Vec3::Z)));
+        // Together they cover the L's area, 3.
+        let area: f32 = (corners.iter())
+            .map(|c| {
+                let n = c.len();
+                (0..n).map(|i| c[i].cross(c[(i + 1) % n]).z).sum::<f32>() / 2.0
+            })
+            .sum();
+        assert!((area - 3.0).abs() < 1e-6, "{area}");
+    }
+
+    #[test]
+    fn the_tangent_range_of_a_box_reaching_down_to_the_eye_plane_is_bounded_by_its_sign() {
+        assert_eq!(tangent_range(1.0, 2.0, -1.0, 2.0), (0.5, 1.0));
+        assert_eq!(tangent_range(-2.0, -1.0, -1.0, 2.0), (-1.0, -0.5));
+        assert_eq!(tangent_range(-1.0, 1.0, 1.0, 2.0), (-1.0, 1.0));
+        assert_eq!(tangent_range(0.5, 1.0, 1.0, 2.0), (0.25, 1.0));
+    }
+}
