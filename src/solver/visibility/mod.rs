@@ -120,6 +120,9 @@ pub fn front_half(k: usize, r: i32) -> [i32; 4] {
     }
 }
 
+/// Threads that build a pass's draw lists besides the one that draws (`VisibilityPass::run_pass`).
+const BUILDERS: usize = 2;
+
 /// Hemicube faces as rotations of the shooter's eye space (which looks down -z): front, +x,
 /// -x, +y, -y. The reconstruction shader uses the same matrices to find a direction's pixel.
 pub fn face_rotations() -> [Mat3; 5] {
@@ -304,10 +307,11 @@ impl VisibilityPass {
     }
 
     /// The visibility passes of one reconstruction pass: `shooters[k]` into slot k, as
-    /// `run_in_slot` draws them one by one, but each next shot's draw list is built on another
-    /// thread while this one's draws are issued. On llvmpipe the thread that issues the draws
-    /// also transforms and sets up every triangle, and is the one the visibility pass waits
-    /// for; building the lists (`Culling::build`) was a sixth of its time on Lost Empire
+    /// `run_in_slot` draws them one by one, but the next shots' draw lists are built on
+    /// [`BUILDERS`] other threads while this one's draws are issued. On llvmpipe the thread that
+    /// issues the draws also transforms and sets up every triangle, and is the one the
+    /// visibility pass waits for; building the lists (`Culling::build`) was a sixth of its time
+    /// on Lost Empire, and more than drawing them once hidden polygons were left out
     /// (docs/perf-log.md). The same lists, so the same item buffers.
     pub fn run_pass(
         &mut self,
@@ -340,33 +344,56 @@ impl VisibilityPass {
             culling.build(lists, triangles, &shooters[k], view, &plates, r);
         };
         build(&mut lists[0], 0);
-        let rest: Vec<Lists> = lists.drain(1..).collect();
+        // The others on two threads, alternately: the walk for hidden polygons
+        // (`Tuning::cull_hidden`) made building a list take longer than drawing it.
+        let mut shares: [Vec<(usize, Lists)>; BUILDERS] = Default::default();
+        for (k, built) in lists.drain(1..).enumerate() {
+            shares[k % BUILDERS].push((k + 1, built));
+        }
+        let mut arrived: Vec<Option<Lists>> = (0..shots.len()).map(|_| None).collect();
         let drawn = std::thread::scope(|scope| {
             let (done, next) = std::sync::mpsc::channel();
-            let builder = scope.spawn(move || {
-                for (k, mut built) in rest.into_iter().enumerate() {
-                    build(&mut built, k + 1);
-                    if done.send(built).is_err() {
-                        break;
-                    }
-                }
-            });
+            let builders: Vec<_> = (shares.into_iter())
+                .map(|share| {
+                    let done = done.clone();
+                    scope.spawn(move || {
+                        for (k, mut built) in share {
+                            build(&mut built, k);
+                            if done.send((k, built)).is_err() {
+                                break;
+                            }
+                        }
+                    })
+                })
+                .collect();
+            drop(done);
             let mut drawn = Ok(());
             for (slot, &(view, r, id)) in shots.iter().enumerate() {
-                if slot > 0 {
-                    lists.push(next.recv().expect("the builder sends every list"));
+                while slot > 0 && arrived[slot].is_none() {
+                    let (k, built) = next.recv().expect("the builders send every list");
+                    arrived[k] = Some(built);
                 }
-                let list = lists[slot].draw_list();
+                let list = if slot == 0 {
+                    lists[0].draw_list()
+                } else {
+                    arrived[slot].as_ref().expect("arrived").draw_list()
+                };
                 self.stream.upload(list.indices);
                 drawn = self.draw(ctx, mesh, slot, id, view, r, list.views);
                 if drawn.is_err() {
                     break;
                 }
             }
-            drop(next);
-            builder.join().expect("the builder does not panic");
+            // What a failed draw left unreceived.
+            while let Ok((k, built)) = next.recv() {
+                arrived[k] = Some(built);
+            }
+            for builder in builders {
+                builder.join().expect("the builders do not panic");
+            }
             drawn
         });
+        lists.extend(arrived.into_iter().flatten());
         self.culling = culling;
         for l in &mut lists {
             self.culling.missed += std::mem::take(&mut l.missed);
