@@ -391,6 +391,9 @@ impl Views {
     }
 }
 
+/// Where a box may reach in a face: its tangent ranges across and up (NDC).
+type Footprint = ((f32, f32), (f32, f32));
+
 /// One shot's walk: its views, and the clipping distances.
 struct Walk<'a> {
     views: &'a Views,
@@ -436,23 +439,11 @@ impl Walk<'_> {
         if limit <= self.clear {
             return false;
         }
-        // The box around the box in eye space, then in each face's space (a face's rotation
-        // permutes the axes, so its box is exact there).
-        let rotation = Mat3::from_mat4(v.view);
-        let centre = v.view.transform_point3(0.5 * (lo + hi));
-        let half = abs(&rotation) * (0.5 * (hi - lo));
         let (r, m) = (v.r, v.margin());
-        for (k, face) in v.rotations.iter().enumerate() {
-            let c = *face * centre;
-            let e = abs(face) * half;
-            let (qlo, qhi) = (c - e, c + e);
-            // Depth along the face's axis: w = -z.
-            let (w_lo, w_hi) = (-qhi.z, -qlo.z);
-            if w_hi <= 0.0 {
+        for (k, reach) in self.footprints(lo, hi).into_iter().enumerate() {
+            let Some(((u0, u1), (v0, v1))) = reach else {
                 continue;
-            }
-            let (u0, u1) = tangent_range(qlo.x, qhi.x, w_lo, w_hi);
-            let (v0, v1) = tangent_range(qlo.y, qhi.y, w_lo, w_hi);
+            };
             let ((i0, i1), (j0, j1)) = (v.pixels(u0, u1, m), v.pixels(v0, v1, m));
             if i0 > i1 || j0 > j1 {
                 continue;
@@ -467,29 +458,37 @@ impl Walk<'_> {
         true
     }
 
-    /// The faces (bit k: face k) in whose frustum part of the box (lower corner `lo`, upper
-    /// `hi`) may lie.
-    fn faces_reached(&self, lo: Vec3, hi: Vec3) -> u8 {
+    /// Per face, the tangent ranges (x, then y; NDC, within [-1, 1]) the box (lower corner
+    /// `lo`, upper `hi`) may reach in it; `None` where it lies wholly outside the face's
+    /// frustum. The box around the box in eye space, then in each face's space (a face's
+    /// rotation permutes the axes, so its box is exact there).
+    fn footprints(&self, lo: Vec3, hi: Vec3) -> [Option<Footprint>; 5] {
         let v = self.views;
         let rotation = Mat3::from_mat4(v.view);
         let centre = v.view.transform_point3(0.5 * (lo + hi));
         let half = abs(&rotation) * (0.5 * (hi - lo));
-        let mut faces = 0;
-        for (k, face) in v.rotations.iter().enumerate() {
+        std::array::from_fn(|k| {
+            let face = &v.rotations[k];
             let c = *face * centre;
             let e = abs(face) * half;
             let (qlo, qhi) = (c - e, c + e);
+            // Depth along the face's axis: w = -z.
             let (w_lo, w_hi) = (-qhi.z, -qlo.z);
             if w_hi <= 0.0 {
-                continue;
+                return None;
             }
             let (u0, u1) = tangent_range(qlo.x, qhi.x, w_lo, w_hi);
             let (v0, v1) = tangent_range(qlo.y, qhi.y, w_lo, w_hi);
-            if u0 <= u1 && v0 <= v1 {
-                faces |= 1 << k;
-            }
-        }
-        faces
+            (u0 <= u1 && v0 <= v1).then_some(((u0, u1), (v0, v1)))
+        })
+    }
+
+    /// The faces (bit k: face k) in whose frustum part of the box (lower corner `lo`, upper
+    /// `hi`) may lie.
+    fn faces_reached(&self, lo: Vec3, hi: Vec3) -> u8 {
+        (self.footprints(lo, hi).iter().enumerate())
+            .filter(|(_, reach)| reach.is_some())
+            .fold(0, |faces, (k, _)| faces | 1 << k)
     }
 
     /// Record, at each pixel centre the convex `piece` (within the faces `faces`) covers, how far along the centre's ray it
