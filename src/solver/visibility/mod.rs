@@ -307,8 +307,8 @@ impl VisibilityPass {
     }
 
     /// The visibility passes of one reconstruction pass: `shooters[k]` into slot k, as
-    /// `run_in_slot` draws them one by one, but the next shots' draw lists are built on
-    /// two other threads (`BUILDERS`) while this one's draws are issued. On llvmpipe the thread that
+    /// `run_in_slot` draws them one by one, but the next shots' draw lists are built on two
+    /// other threads (`BUILDERS`) while this one's draws are issued. On llvmpipe the thread that
     /// issues the draws also transforms and sets up every triangle, and is the one the
     /// visibility pass waits for; building the lists (`Culling::build`) was a sixth of its time
     /// on Lost Empire, and more than drawing them once hidden polygons were left out
