@@ -75,7 +75,7 @@ pub struct Culling {
     pub(super) solids: Solids,
     /// Each drawn polygon's corners, for `Tuning::cull_between_samples`.
     outlines: Outlines,
-    /// The drawn polygons' triangles and a tree of their boxes, for `Tuning::cull_hidden`.
+    /// The drawn polygons' convex pieces and a tree of their boxes, for `Tuning::cull_hidden`.
     occluders: Occluders,
     /// The lists of `draw_list` (those of `build` belong to the caller).
     lists: Lists,

@@ -24,6 +24,7 @@
 //! nearer polygon (tests/item_buffer.rs checks that those are the only pixels that change).
 
 use super::plates::Plates;
+use crate::geometry::bounds;
 use crate::scene::{triangulate, Scene};
 use glam::{Mat3, Mat4, Vec3};
 use std::cmp::Reverse;
@@ -51,17 +52,19 @@ pub struct Occluders {
     order: Vec<u32>,
     /// Per polygon: its drawn outline's box (lower, upper corner).
     boxes: Vec<(Vec3, Vec3)>,
-
     /// Per polygon: its convex pieces in `pieces`, `starts[p]..starts[p + 1]`.
     starts: Vec<u32>,
-    /// Every drawn polygon's convex pieces (its outline if convex, else its triangles): each
+    /// Every drawn polygon's convex pieces (its outline if convex, else `convex_pieces`): each
     /// piece's corners in `corners`, `pieces[k]..pieces[k + 1]`.
     pieces: Vec<u32>,
     /// The pieces' corners.
     corners: Vec<Vec3>,
+    /// Per piece: its plane's normal (Newell's, not normalised), computed once rather than
+    /// per shot.
+    normals: Vec<Vec3>,
 }
 
-/// The most corners a convex outline may have to be one piece (more: its triangles).
+/// The most corners a convex outline may have to be one piece (more: `convex_pieces`).
 const MAX_PIECE: usize = 16;
 
 /// `outline` (counter-clockwise about `normal`, concave) as convex pieces of corner indices:
@@ -162,7 +165,6 @@ impl Occluders {
         let n = scene.polygons.len();
         let mut o = Occluders {
             boxes: vec![(Vec3::ZERO, Vec3::ZERO); n],
-
             starts: Vec::with_capacity(n + 1),
             ..Occluders::default()
         };
@@ -173,18 +175,15 @@ impl Occluders {
                 continue;
             }
             let outline = plates.outlines.get(&p).unwrap_or(&polygon.vertices);
-            let (lo, hi) = outline.iter().fold(
-                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-                |(lo, hi), &v| (lo.min(v), hi.max(v)),
-            );
-            o.boxes[p] = (lo, hi);
+            let Some(bounds) = bounds(outline) else {
+                continue;
+            };
+            o.boxes[p] = bounds;
             if outline.len() <= MAX_PIECE && convex(outline, polygon.normal) {
-                o.pieces.push(o.corners.len() as u32);
-                o.corners.extend_from_slice(outline);
+                o.push_piece(outline.iter().copied());
             } else {
                 for piece in convex_pieces(outline, polygon.normal) {
-                    o.pieces.push(o.corners.len() as u32);
-                    o.corners.extend(piece.iter().map(|&k| outline[k]));
+                    o.push_piece(piece.iter().map(|&k| outline[k]));
                 }
             }
             drawn.push(p as u32);
@@ -201,6 +200,20 @@ impl Occluders {
             o.build(0, &mut drawn);
         }
         o
+    }
+
+    /// Append a convex piece with these corners, and its plane's normal.
+    fn push_piece(&mut self, corners: impl Iterator<Item = Vec3>) {
+        let start = self.corners.len();
+        self.pieces.push(start as u32);
+        self.corners.extend(corners);
+        let piece = &self.corners[start..];
+        let n = piece.len();
+        // Newell's normal: the piece's plane, whatever its corners.
+        let normal = (0..n).fold(Vec3::ZERO, |sum, k| {
+            sum + piece[k].cross(piece[(k + 1) % n])
+        });
+        self.normals.push(normal);
     }
 
     /// Make node `at` the box around `polygons` (which end up in `order`), splitting at the
@@ -315,7 +328,7 @@ impl Occluders {
                 let faces = walk.faces_reached(lo, hi);
                 for k in range {
                     let piece = &self.corners[self.pieces[k] as usize..self.pieces[k + 1] as usize];
-                    walk.cover(&mut scratch.cover, piece, faces);
+                    walk.cover(&mut scratch.cover, piece, self.normals[k], faces);
                 }
             }
         }
@@ -491,16 +504,12 @@ impl Walk<'_> {
             .fold(0, |faces, (k, _)| faces | 1 << k)
     }
 
-    /// Record, at each pixel centre the convex `piece` (within the faces `faces`) covers, how far along the centre's ray it
-    /// lies (if nearer than what is recorded).
-    fn cover(&self, cover: &mut [f32], piece: &[Vec3], faces: u8) {
+    /// Record, at each pixel centre of the faces `faces` that the convex `piece` (plane normal
+    /// `normal`) covers, how far along the centre's ray it lies (if nearer than what is
+    /// recorded).
+    fn cover(&self, cover: &mut [f32], piece: &[Vec3], normal: Vec3, faces: u8) {
         let v = self.views;
         let n = piece.len();
-        // Newell's normal: the piece's plane, whatever its corners.
-        let mut normal = Vec3::ZERO;
-        for k in 0..n {
-            normal += piece[k].cross(piece[(k + 1) % n]);
-        }
         let length = normal.length();
         // Too near (the near plane could clip it), degenerate, or beyond the far plane.
         if length == 0.0 || (normal.dot(piece[0] - v.s) / length).abs() <= self.clear {
@@ -638,7 +647,7 @@ mod tests {
         let mut cover = Vec::new();
         v.clear(&mut cover);
         // A ceiling at height 1 reaching 45° each way covers the whole front face.
-        w.cover(&mut cover, &square(1.0, 1.01), 0b11111);
+        w.cover(&mut cover, &square(1.0, 1.01), Vec3::Z, 0b11111);
         let front = &cover[..64];
         assert!(front.iter().all(|&d| (1.0..=3f32.sqrt()).contains(&d)));
         // Beyond the ceiling, a box is hidden.
@@ -660,7 +669,7 @@ mod tests {
         v.clear(&mut cover);
         // Centres of the front face lie at tangent ±0.25, ±0.75: a square of half 0.2 around
         // the middle covers none.
-        w.cover(&mut cover, &square(1.0, 0.2), 0b11111);
+        w.cover(&mut cover, &square(1.0, 0.2), Vec3::Z, 0b11111);
         assert!(cover[..16].iter().all(|d| d.is_infinite()));
         // A face of which nothing is drawn: a box seen only there is hidden.
         v.drawn = [[0, 0, 0, 0]; 5];
