@@ -15,8 +15,9 @@
 //! Switches of `Tuning` leave the answer as it is, so both solvers take the same shots; options
 //! that change the answer may make them take different ones.
 //!
-//! After B, optional `emit=NAME=R,G,B` (repeatable, as `--emit`) and `patches=N` (as
-//! `--patches`; default: `radiosity solve`'s budget for the scene), for third-party scenes:
+//! After B, optional `emit=NAME=R,G,B` (repeatable, as `--emit`), `patches=N` (as
+//! `--patches`; default: `radiosity solve`'s budget for the scene), for third-party scenes, and
+//! `threshold=F` (both solvers stop at that unshot share, or at SHOTS):
 //! `… lost_empire.obj 2000 accurate accurate,-plates emit=Torch=5,4,2`.
 
 use glow::HasContext;
@@ -75,13 +76,14 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     if args.len() < 5 {
         eprintln!(
-            "usage: interleaved_ab SCENE.obj SHOTS A B [emit=NAME=R,G,B]... [patches=N] \
+            "usage: interleaved_ab SCENE.obj SHOTS A B [emit=NAME=R,G,B]... [patches=N] [threshold=F] \
              (see examples/interleaved_ab.rs)"
         );
         std::process::exit(2);
     }
     let mut options = LoadOptions::default();
     let mut patches = None;
+    let mut threshold = None;
     for extra in &args[5..] {
         if let Some(rule) = extra.strip_prefix("emit=") {
             // The same parser and checks as `radiosity solve --emit`.
@@ -90,6 +92,8 @@ fn main() {
                 .push(gpu_radiosity::cli::emission(rule).unwrap_or_else(|e| panic!("emit=: {e}")));
         } else if let Some(n) = extra.strip_prefix("patches=") {
             patches = Some(n.parse().expect("patches=N: a count"));
+        } else if let Some(t) = extra.strip_prefix("threshold=") {
+            threshold = Some(t.parse::<f32>().expect("threshold=F: a share"));
         } else {
             panic!("unknown argument '{extra}' (see the file's comment)");
         }
@@ -100,7 +104,13 @@ fn main() {
     let layout = pipeline::lay_out(&scene, None, patches).expect("the atlas fits");
     let ctx = GlContext::headless(BackendChoice::Auto).expect("a GL 3.0 context");
     let mut solvers = [&args[3], &args[4]].map(|changes| {
-        GpuSolver::new(&ctx, &scene, &layout, configuration(changes)).expect("the solver starts")
+        let mut options = configuration(changes);
+        if let Some(t) = threshold {
+            // The stopping rule given, and no shot limit short of SHOTS.
+            options.threshold = t;
+            options.max_shots = shots;
+        }
+        GpuSolver::new(&ctx, &scene, &layout, options).expect("the solver starts")
     });
     let mut seconds = [0.0; 2];
     let mut done = [0u32; 2];
