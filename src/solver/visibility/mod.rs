@@ -38,6 +38,8 @@ use culling::{Culling, DrawList, Lists, Triangles, ViewDraw};
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
 use plates::Plates;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
 
 /// The visibility pass (3.2.2): the scene drawn from a shooter into an item buffer of polygon
 /// IDs, which the reconstruction pass reads to tell whether a receiver is seen.
@@ -308,11 +310,13 @@ impl VisibilityPass {
 
     /// The visibility passes of one reconstruction pass: `shooters[k]` into slot k, as
     /// `run_in_slot` draws them one by one, but the next shots' draw lists are built on two
-    /// other threads (`BUILDERS`) while this one's draws are issued. On llvmpipe the thread that
-    /// issues the draws also transforms and sets up every triangle, and is the one the
-    /// visibility pass waits for; building the lists (`Culling::build`) was a sixth of its time
-    /// on Lost Empire, and more than drawing them once hidden polygons were left out
-    /// (docs/perf-log.md). The same lists, so the same item buffers.
+    /// other threads (`BUILDERS`) while this one's draws are issued, and this one builds the
+    /// next unclaimed list itself whenever the one it must draw next is not ready. On llvmpipe
+    /// the thread that issues the draws also transforms and sets up every triangle, and is the
+    /// one the visibility pass waits for; building the lists (`Culling::build`) was a sixth of
+    /// its time on Lost Empire, and more than drawing them once hidden polygons were left out;
+    /// waiting for the builders left it idle a third of the pass (docs/perf-log.md). The same
+    /// lists, so the same item buffers.
     pub fn run_pass(
         &mut self,
         ctx: &GlContext,
@@ -339,61 +343,61 @@ impl VisibilityPass {
         let mut lists = std::mem::take(&mut self.pass_lists);
         lists.resize_with(shooters.len(), Lists::default);
         let triangles = Triangles::of(mesh);
-        let build = |lists: &mut Lists, k: usize| {
-            let (view, r, _) = shots[k];
-            culling.build(lists, triangles, &shooters[k], view, &plates, r);
+        // Each shot's list in a cell of its own; the next shot without a list is claimed by
+        // whichever thread is free first: the builders, or this one when the list it must draw
+        // next is not ready (waiting for a builder left it idle a third of the pass).
+        let cells: Vec<Mutex<Lists>> = lists.into_iter().map(Mutex::new).collect();
+        let unclaimed = AtomicUsize::new(0);
+        let claim = || {
+            let k = unclaimed.fetch_add(1, Ordering::Relaxed);
+            (k < cells.len()).then(|| {
+                let mut built = cells[k].lock().expect("a builder does not panic");
+                let (view, r, _) = shots[k];
+                culling.build(&mut built, triangles, &shooters[k], view, &plates, r);
+                k
+            })
         };
-        build(&mut lists[0], 0);
-        // The others on two threads, alternately: the walk for hidden polygons
-        // (`Tuning::cull_hidden`) made building a list take longer than drawing it.
-        let mut shares: [Vec<(usize, Lists)>; BUILDERS] = Default::default();
-        for (k, built) in lists.drain(1..).enumerate() {
-            shares[k % BUILDERS].push((k + 1, built));
-        }
-        let mut arrived: Vec<Option<Lists>> = (0..shots.len()).map(|_| None).collect();
         let drawn = std::thread::scope(|scope| {
-            let (done, next) = std::sync::mpsc::channel();
-            let builders: Vec<_> = (shares.into_iter())
-                .map(|share| {
-                    let done = done.clone();
-                    scope.spawn(move || {
-                        for (k, mut built) in share {
-                            build(&mut built, k);
-                            if done.send((k, built)).is_err() {
-                                break;
-                            }
+            let (done, arrivals) = std::sync::mpsc::channel();
+            for _ in 0..BUILDERS {
+                let done = done.clone();
+                scope.spawn(move || {
+                    while let Some(k) = claim() {
+                        if done.send(k).is_err() {
+                            break;
                         }
-                    })
-                })
-                .collect();
+                    }
+                });
+            }
             drop(done);
+            let mut ready = vec![false; shots.len()];
             let mut drawn = Ok(());
             for (slot, &(view, r, id)) in shots.iter().enumerate() {
-                while slot > 0 && arrived[slot].is_none() {
-                    let (k, built) = next.recv().expect("the builders send every list");
-                    arrived[k] = Some(built);
+                while !ready[slot] {
+                    let k = match arrivals.try_recv() {
+                        Ok(k) => k,
+                        Err(_) => match claim() {
+                            Some(k) => k,
+                            None => arrivals.recv().expect("the builders send every list"),
+                        },
+                    };
+                    ready[k] = true;
                 }
-                let list = if slot == 0 {
-                    lists[0].draw_list()
-                } else {
-                    arrived[slot].as_ref().expect("arrived").draw_list()
-                };
+                let list = cells[slot].lock().expect("a builder does not panic");
+                let list = list.draw_list();
                 self.stream.upload(list.indices);
                 drawn = self.draw(ctx, mesh, slot, id, view, r, list.views);
                 if drawn.is_err() {
+                    // No more claims: the builders finish what they hold and stop.
+                    unclaimed.store(shots.len(), Ordering::Relaxed);
                     break;
                 }
             }
-            // What a failed draw left unreceived.
-            while let Ok((k, built)) = next.recv() {
-                arrived[k] = Some(built);
-            }
-            for builder in builders {
-                builder.join().expect("the builders do not panic");
-            }
             drawn
         });
-        lists.extend(arrived.into_iter().flatten());
+        let mut lists: Vec<Lists> = (cells.into_iter())
+            .map(|c| c.into_inner().expect("a builder does not panic"))
+            .collect();
         self.culling = culling;
         for l in &mut lists {
             self.culling.missed += std::mem::take(&mut l.missed);
