@@ -356,8 +356,10 @@ fn solids_and_plates_of_both_rooms() {
 #[test]
 fn a_pass_whose_draw_lists_are_built_aside_draws_the_same_item_buffers() {
     // `VisibilityPass::run_pass` builds each next shot's draw list on another thread while the
-    // draws of this one are issued: every slot must hold what `run_in_slot` draws into it, pixel
-    // for pixel, at the shots' own resolutions (here 128² and 16² to 64² per face).
+    // draws of this one are issued (or on the drawing thread, when it would otherwise wait;
+    // which thread builds which list depends on timing): every slot must hold what
+    // `run_in_slot` draws into it, pixel for pixel, at the shots' own resolutions (here 128²
+    // and 16² to 64² per face).
     let ctx = context();
     let (scene, layout) = simple_room();
     let n = scene.polygons.len();
