@@ -2,45 +2,107 @@
 //! default settings to the stopping rule (`--threshold`, 1 % here), one child `radiosity solve`
 //! per scene (so that each peak memory is its own): faces, polygons after merging, patches,
 //! shots, passes, loop seconds, unshot power at the end and peak memory. Lights a file does not
-//! define come from `--emit`, as the gallery (docs/gallery.md) gives them.
+//! define come from `--emit`, as the gallery (docs/gallery.md) gives them. One more row solves
+//! Lost Empire at issue 35's patch count and says whether its speed target is met.
 
 use super::BenchArgs;
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 
-/// A third-party scene: its name, its OBJ under `scenes/third_party/` and the `--emit` it needs.
+/// A third-party scene: its name, its OBJ under `scenes/third_party/`, the `--emit` it needs,
+/// any other arguments of its solve, and the speed target it is held to, if any.
 struct ThirdParty {
     name: &'static str,
     obj: &'static str,
     emit: Option<&'static str>,
+    extra: &'static [&'static str],
+    target: Option<Target>,
 }
 
-/// Every third-party scene, smallest first.
-const SCENES: [ThirdParty; 5] = [
+/// A speed target: at least `min_patches` patches, converged within `max_loop_s` seconds of loop.
+#[derive(Clone, Copy, Debug)]
+struct Target {
+    min_patches: u64,
+    max_loop_s: f64,
+}
+
+impl Target {
+    /// Whether a solve of `patches` patches that took `loop_s` seconds (and reached the stopping
+    /// rule or not) meets it.
+    fn met(&self, patches: u64, loop_s: f64, converged: bool) -> bool {
+        converged && patches >= self.min_patches && loop_s <= self.max_loop_s
+    }
+
+    fn describe(&self) -> String {
+        format!(
+            "≥ {} patches in ≤ {} s",
+            thousands(self.min_patches),
+            self.max_loop_s
+        )
+    }
+}
+
+/// `n` with thousands separated by commas, as the docs write counts.
+fn thousands(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// Every third-party scene, smallest first, then Lost Empire at issue 35's target: at least
+/// 100,000 patches (`--patches 160000` gives 103,267) converged in at most 60 s of loop on the
+/// 2-core llvmpipe VM.
+const SCENES: [ThirdParty; 6] = [
     ThirdParty {
         name: "cornell-box",
         obj: "cornell-box/CornellBox-Original.obj",
         emit: None,
+        extra: &[],
+        target: None,
     },
     ThirdParty {
         name: "tinyobjloader-cornell-box",
         obj: "tinyobjloader-cornell-box/cornell_box.obj",
         emit: Some("light=20,20,20"),
+        extra: &[],
+        target: None,
     },
     ThirdParty {
         name: "living-room",
         obj: "living-room/living_room.obj",
         emit: None,
+        extra: &[],
+        target: None,
     },
     ThirdParty {
         name: "lost-empire",
         obj: "lost-empire/lost_empire.obj",
         emit: Some("Torch=5,4,2"),
+        extra: &[],
+        target: None,
     },
     ThirdParty {
         name: "conference-room",
         obj: "conference-room/conference.obj",
         emit: Some("mesh5_SG=1,1,1"),
+        extra: &[],
+        target: None,
+    },
+    ThirdParty {
+        name: "lost-empire-100k",
+        obj: "lost-empire/lost_empire.obj",
+        emit: Some("Torch=5,4,2"),
+        extra: &["--patches", "160000"],
+        target: Some(Target {
+            min_patches: 100_000,
+            max_loop_s: 60.0,
+        }),
     },
 ];
 
@@ -59,6 +121,9 @@ struct Row {
     unshot_fraction: f64,
     converged: bool,
     peak_memory_mib: f64,
+    /// The speed target the row is held to (`null` for none), and whether it was met.
+    target: Option<String>,
+    target_met: Option<bool>,
 }
 
 /// `scenes/third_party/` of the working directory's checkout, or of the one this program was
@@ -104,8 +169,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let dir = third_party_dir()?;
     let scratch = tempfile_dir()?;
     let backend = args.backend.to_possible_value().context("a backend name")?;
-    outln!("| scene | faces | polygons | patches | clustered | shots | passes | loop s | unshot | peak MiB |");
-    outln!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    outln!("| scene | faces | polygons | patches | clustered | shots | passes | loop s | unshot | peak MiB | target |");
+    outln!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|");
     let mut rows = Vec::new();
     for scene in chosen(args)? {
         let out = scratch.join(scene.name);
@@ -114,6 +179,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         if let Some(emit) = scene.emit {
             command.extend(["--emit".into(), emit.into()]);
         }
+        command.extend(scene.extra.iter().map(|a| a.to_string()));
         command.extend(["--threshold".into(), args.threshold.to_string()]);
         command.extend(["--backend".into(), backend.get_name().into()]);
         let status = std::process::Command::new(std::env::current_exe()?)
@@ -138,6 +204,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         .with_context(|| format!("parsing {}", stats_path.display()))?;
         let int = |k: &str| stats[k].as_u64().unwrap_or(0);
         let float = |k: &str| stats[k].as_f64().unwrap_or(f64::NAN);
+        let converged = float("unshot_fraction") <= args.threshold as f64;
         let row = Row {
             scene: scene.name,
             command: format!("radiosity {}", command.join(" ")),
@@ -149,11 +216,18 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             passes: int("passes"),
             loop_s: float("solve_seconds"),
             unshot_fraction: float("unshot_fraction"),
-            converged: float("unshot_fraction") <= args.threshold as f64,
+            converged,
             peak_memory_mib: float("peak_memory_mib"),
+            target: scene.target.map(|t| t.describe()),
+            target_met: (scene.target)
+                .map(|t| t.met(int("patches"), float("solve_seconds"), converged)),
+        };
+        let target = match (&row.target, row.target_met) {
+            (Some(t), Some(met)) => format!("{t}: {}", if met { "met" } else { "missed" }),
+            _ => String::new(),
         };
         outln!(
-            "| {} | {} | {} | {} | {} | {} | {} | {:.1} | {:.2} %{} | {:.0} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {:.1} | {:.2} %{} | {:.0} | {} |",
             row.scene,
             row.faces,
             row.polygons,
@@ -168,7 +242,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             } else {
                 " (not converged)"
             },
-            row.peak_memory_mib
+            row.peak_memory_mib,
+            target
         );
         rows.push(row);
     }
@@ -184,4 +259,39 @@ fn tempfile_dir() -> Result<PathBuf> {
     let d = std::env::temp_dir().join(format!("radiosity-bench-scenes-{}", std::process::id()));
     std::fs::create_dir_all(&d).with_context(|| format!("creating {}", d.display()))?;
     Ok(d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_target_is_met_only_converged_with_enough_patches_in_time() {
+        let t = Target {
+            min_patches: 100_000,
+            max_loop_s: 60.0,
+        };
+        assert!(t.met(103_267, 59.9, true));
+        assert!(t.met(100_000, 60.0, true));
+        assert!(!t.met(103_267, 95.2, true), "too slow");
+        assert!(!t.met(75_524, 40.0, true), "too few patches");
+        assert!(!t.met(103_267, 40.0, false), "not converged");
+        assert!(!t.met(103_267, f64::NAN, true), "no time read");
+        assert_eq!(t.describe(), "≥ 100,000 patches in ≤ 60 s");
+    }
+
+    #[test]
+    fn only_the_target_row_adds_arguments_and_every_name_is_distinct() {
+        let targets: Vec<&str> = (SCENES.iter())
+            .filter(|s| s.target.is_some())
+            .map(|s| s.name)
+            .collect();
+        assert_eq!(targets, ["lost-empire-100k"]);
+        for s in &SCENES {
+            assert_eq!(s.extra.is_empty(), s.target.is_none(), "{}", s.name);
+            assert_eq!(SCENES.iter().filter(|t| t.name == s.name).count(), 1);
+        }
+        assert_eq!(thousands(1_048_576), "1,048,576");
+        assert_eq!(thousands(999), "999");
+    }
 }
