@@ -383,8 +383,8 @@ impl VisibilityPass {
                     };
                     ready[k] = true;
                 }
-                let list = cells[slot].lock().expect("a builder does not panic");
-                let list = list.draw_list();
+                let built = cells[slot].lock().expect("a builder does not panic");
+                let list = built.draw_list();
                 self.stream.upload(list.indices);
                 drawn = self.draw(ctx, mesh, slot, id, view, r, list.views);
                 if drawn.is_err() {
