@@ -65,6 +65,7 @@ fn configuration(changes: &str) -> SolveOptions {
             "-cull_solids" => t.cull_solids = false,
             "-cull_between_samples" => t.cull_between_samples = false,
             "-cull_hidden" => t.cull_hidden = false,
+            "-walk_item_buffers" => t.walk_item_buffers = false,
             "-flush_visibility" => t.flush_visibility = false,
             other => panic!("unknown change '{other}' (see the file's comment)"),
         }

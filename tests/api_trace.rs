@@ -66,6 +66,8 @@ enum Event {
     Copy { texture: u32, fbo: u32 },
     /// glGetTexImage of `texture`.
     Read { texture: u32 },
+    /// glTexSubImage2D into `texture` (the item buffer the walk wrote, `Tuning::walk_item_buffers`).
+    Upload { texture: u32 },
 }
 
 struct Trace {
@@ -73,6 +75,8 @@ struct Trace {
     context_attributes: Vec<String>,
     /// Framebuffers with a texture colour attachment, and with a renderbuffer one.
     texture_fbos: BTreeSet<u32>,
+    /// The textures attached to framebuffers as colour (the item buffers).
+    attached_textures: BTreeSet<u32>,
     renderbuffer_fbos: BTreeSet<u32>,
     events: Vec<(u64, Event)>,
 }
@@ -82,6 +86,7 @@ fn read_trace(dump: &str) -> Trace {
         shader_sources: Vec::new(),
         context_attributes: Vec::new(),
         texture_fbos: BTreeSet::new(),
+        attached_textures: BTreeSet::new(),
         renderbuffer_fbos: BTreeSet::new(),
         events: Vec::new(),
     };
@@ -116,7 +121,14 @@ fn read_trace(dump: &str) -> Trace {
             }
             "glFramebufferTexture2D" if a.contains("GL_COLOR_ATTACHMENT") => {
                 t.texture_fbos.insert(draw_fbo);
+                t.attached_textures.insert(number(a, "texture"));
             }
+            "glTexSubImage2D" => t.events.push((
+                c.index,
+                Event::Upload {
+                    texture: bound.get(&unit).copied().unwrap_or(0),
+                },
+            )),
             "glFramebufferRenderbuffer" if a.contains("GL_COLOR_ATTACHMENT") => {
                 t.renderbuffer_fbos.insert(draw_fbo);
             }
@@ -227,6 +239,12 @@ fn check_common(mode: &str, t: &Trace) {
                     unread.remove(x);
                 }
             }
+            Event::Upload { texture } => {
+                assert!(
+                    !unread.contains_key(texture),
+                    "{mode}: upload {index} overwrites an unread copy into texture {texture}"
+                );
+            }
         }
     }
 }
@@ -273,9 +291,14 @@ fn check_shots(mode: &str, t: &Trace, passes_per_shot: Option<usize>) {
     assert!(passes >= 3, "{mode}: {passes} reconstruction passes copied");
     let mut shots_with_readback = 0;
     for (k, shot) in solved.iter().enumerate() {
-        let visibility = shot.iter().position(|e| {
-            matches!(e, Event::Draw { fbo, .. } if t.texture_fbos.contains(fbo)
-                && !t.renderbuffer_fbos.contains(fbo))
+        // Drawn into the item buffer's FBO, or (accurate mode, the walk writing it) uploaded
+        // into the texture attached there.
+        let visibility = shot.iter().position(|e| match e {
+            Event::Draw { fbo, .. } => {
+                t.texture_fbos.contains(fbo) && !t.renderbuffer_fbos.contains(fbo)
+            }
+            Event::Upload { texture } => t.attached_textures.contains(texture),
+            _ => false,
         });
         let reconstruction: Vec<&Event> = shot
             .iter()

@@ -13,6 +13,15 @@ use gpu_radiosity::solver::visibility::solids::Solids;
 use gpu_radiosity::solver::visibility::{face_rotations, VisibilityPass};
 use gpu_radiosity::solver::{GpuSolver, SolveOptions, Tuning, VisibilityKind};
 
+/// The tuning for llvmpipe with the views drawn (`Tuning::walk_item_buffers` off): the GPU path
+/// these tests hold to account. `the_walk_writes_what_the_views_draw` compares the two.
+fn drawn() -> Tuning {
+    Tuning {
+        walk_item_buffers: false,
+        ..Tuning::llvmpipe()
+    }
+}
+
 /// Fraction of item-buffer pixels (away from ID boundaries and the disk's rim) whose ID matches
 /// the CPU ray cast, plus the IDs at a few named directions.
 fn compare(
@@ -21,6 +30,25 @@ fn compare(
     tessellation: f32,
     res: u32,
     visibility: VisibilityKind,
+) -> (f64, Vec<Option<u32>>) {
+    compare_tuned(
+        scene,
+        shooter_polygon,
+        tessellation,
+        res,
+        visibility,
+        drawn(),
+    )
+}
+
+/// [`compare`] with the visibility pass tuned by `tuning`.
+fn compare_tuned(
+    scene: &Scene,
+    shooter_polygon: usize,
+    tessellation: f32,
+    res: u32,
+    visibility: VisibilityKind,
+    tuning: Tuning,
 ) -> (f64, Vec<Option<u32>>) {
     let ctx = context();
     let layout = gpu_radiosity::patches::PatchLayout::new(
@@ -33,8 +61,9 @@ fn compare(
         shooter_cell: 0,
         visibility,
         // The visibility pass as tuned for llvmpipe (views culled, guard band, half side faces,
-        // solids' far faces left out): what these tests hold against ray casting.
-        tuning: Tuning::llvmpipe(),
+        // solids' far faces left out), drawn unless the caller says otherwise: what these tests
+        // hold against ray casting.
+        tuning,
         ..SolveOptions::paper()
     };
     let mut solver = GpuSolver::new(&ctx, scene, &layout, options).unwrap();
@@ -195,6 +224,11 @@ fn hemicube_in_the_furnished_room_matches_ray_casting() {
         assert!(agreement > 0.995, "{name}: agreement {agreement}");
         // README: the hemicube's 100.0 % holds "also in the furnished simple room".
         assert_quoted(name, 100.0 * agreement, "100.0");
+        // And the item buffer the walk writes instead (`Tuning::walk_item_buffers`).
+        let hemicube = VisibilityKind::Hemicube;
+        let (walked, _) = compare_tuned(&scene, find(name), 0.0, 64, hemicube, Tuning::llvmpipe());
+        println!("  written by the walk: {:.3} %", 100.0 * walked);
+        assert_quoted(name, 100.0 * walked, "100.0");
     }
 }
 
@@ -264,10 +298,10 @@ fn leaving_out_the_far_faces_of_solids_keeps_the_item_buffer() {
     let n = scene.polygons.len();
     let geometry = mesh::upload_scene(&ctx.gl, &mesh::vertex_data(&scene, &layout), n).unwrap();
     let pass = |tuning| VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, tuning, &scene);
-    let mut culled = pass(Tuning::llvmpipe()).unwrap();
+    let mut culled = pass(drawn()).unwrap();
     let mut full = pass(Tuning {
         cull_solids: false,
-        ..Tuning::llvmpipe()
+        ..drawn()
     })
     .unwrap();
     let (runs, pixels, differ) = item_buffers_differ(
@@ -294,15 +328,7 @@ fn plates_show_the_same_planes() {
     let ctx = context();
     let (scene, layout) = simple_room();
     let n = scene.polygons.len();
-    let pass = || {
-        VisibilityPass::new(
-            &ctx,
-            VisibilityKind::Hemicube,
-            128,
-            Tuning::llvmpipe(),
-            &scene,
-        )
-    };
+    let pass = || VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, drawn(), &scene);
     let mut merged = pass().unwrap();
     let plates = merged.merge_plates(&scene).clone();
     assert_eq!(
@@ -366,15 +392,8 @@ fn a_pass_whose_draw_lists_are_built_aside_draws_the_same_item_buffers() {
     let geometry = mesh::upload_scene(&ctx.gl, &mesh::vertex_data(&scene, &layout), n).unwrap();
     let slots = 8;
     let pass = || {
-        VisibilityPass::with_slots(
-            &ctx,
-            VisibilityKind::Hemicube,
-            128,
-            Tuning::llvmpipe(),
-            &scene,
-            slots,
-        )
-        .unwrap()
+        VisibilityPass::with_slots(&ctx, VisibilityKind::Hemicube, 128, drawn(), &scene, slots)
+            .unwrap()
     };
     let (mut aside, mut one_by_one) = (pass(), pass());
     let solver = GpuSolver::new(&ctx, &scene, &layout, SolveOptions::accurate()).unwrap();
@@ -430,10 +449,10 @@ fn hidden_polygons_left_out(
     let n = scene.polygons.len();
     let top = *sides.iter().max().unwrap();
     let pass = |tuning| VisibilityPass::new(&ctx, VisibilityKind::Hemicube, top, tuning, scene);
-    let mut culled = pass(Tuning::llvmpipe()).unwrap();
+    let mut culled = pass(drawn()).unwrap();
     let mut whole = pass(Tuning {
         cull_hidden: false,
-        ..Tuning::llvmpipe()
+        ..drawn()
     })
     .unwrap();
     // As the solver draws them: plates as one polygon.
@@ -514,4 +533,108 @@ fn leaving_out_hidden_polygons_changes_only_pixels_of_polygons_seen_edge_on() {
         hidden > 100 * shots as u64,
         "{hidden} left out in {shots} shots"
     );
+}
+
+/// The item buffers written by the walk (`Tuning::walk_item_buffers`) and drawn by the GPU, from
+/// the first two shooter cells of every `step`th polygon (as the solver shoots them, from their
+/// patches), at several sides and turns: (shots, pixels compared, pixels that differ).
+fn walked_against_drawn(scene: &Scene, patch_size: f32, sides: &[u32]) -> (usize, usize, usize) {
+    let ctx = context();
+    let layout = layout(scene, patch_size);
+    let n = scene.polygons.len();
+    let top = *sides.iter().max().unwrap();
+    let pass = |tuning| VisibilityPass::new(&ctx, VisibilityKind::Hemicube, top, tuning, scene);
+    let mut walked = pass(Tuning::llvmpipe()).unwrap();
+    let mut views = pass(drawn()).unwrap();
+    let data = walked.merge_plates(scene).vertex_data(scene, &layout);
+    views.merge_plates(scene);
+    let geometry = mesh::upload_scene(&ctx.gl, &data, n).unwrap();
+    let solver = GpuSolver::new(&ctx, scene, &layout, SolveOptions::accurate()).unwrap();
+    let mut shooter = solver.shooters_of(solver.next_polygon().unwrap())[0];
+    let slack = scene.plane_slack();
+    let (mut shots, mut pixels, mut differ) = (0, 0, 0);
+    for p in (0..n).step_by(n / 150 + 1) {
+        // Points on the polygon, as its patches are: the centres of its first and last
+        // triangles (a concave outline's centroid may lie off it, inside a block).
+        let polygon = &scene.polygons[p];
+        let triangles = gpu_radiosity::scene::triangulate(&polygon.vertices, polygon.normal);
+        for t in [triangles[0], triangles[triangles.len() - 1]] {
+            shooter.polygon = p;
+            shooter.normal = polygon.normal;
+            shooter.position = t.iter().map(|&k| polygon.vertices[k]).sum::<Vec3>() / 3.0;
+            shooter.hemi_res = sides[shots % sides.len()];
+            shooter.turn = shots as f32 * 0.37;
+            walked.run(&ctx, &geometry, &shooter).unwrap();
+            views.run(&ctx, &geometry, &shooter).unwrap();
+            assert_eq!(walked.drawn(), views.drawn(), "shot {shots}");
+            let (a, b) = (walked.read_ids(), views.read_ids());
+            let width = walked.slot_texture(0).width as usize;
+            let r = shooter.hemi_res as usize;
+            for (i, (a, b)) in a.iter().zip(&b).enumerate() {
+                let (x, y) = (i % width, i / width);
+                if x >= 5 * r || y >= r {
+                    continue;
+                }
+                // Only the pixels the reconstruction pass reads: the side faces' upper halves.
+                let face = x / r;
+                let [fx, fy, fw, fh] =
+                    gpu_radiosity::solver::visibility::front_half(face, r as i32)
+                        .map(|v| v as usize);
+                let (u, v) = (x % r, y);
+                if u < fx || u >= fx + fw || v < fy || v >= fy + fh {
+                    continue;
+                }
+                pixels += 1;
+                // Back-to-back faces in one plane (leaves, glass, the two sides of a sheet) tie
+                // in depth everywhere: the GPU shows the one drawn first, the walk the one it
+                // met first. The robust test reads only the shown plane, which they share.
+                let one_plane = |a: Option<u32>, b: Option<u32>| match (a, b) {
+                    (Some(a), Some(b)) => {
+                        let (p, q) = (&scene.polygons[a as usize], &scene.polygons[b as usize]);
+                        p.normal.dot(q.normal).abs() > 0.9999
+                            && p.plane().distance(q.centroid).abs() <= slack
+                    }
+                    _ => false,
+                };
+                differ += (a != b && !one_plane(*a, *b)) as usize;
+            }
+            shots += 1;
+        }
+    }
+    (shots, pixels, differ)
+}
+
+#[test]
+fn the_walk_writes_what_the_views_draw() {
+    // Lost Empire, where it pays (docs/perf-log.md, 2026-12-06, tenth session), and the simple
+    // Table 1 room. The walk records the nearest polygon at every pixel centre; the GPU draws
+    // them. They part only where a centre lies on an edge (the GPU's fill rule gives it to one
+    // side, the walk to the nearer or the first polygon) or two polygons tie in depth.
+    let scene = load_obj_with(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenes/third_party/lost-empire/lost_empire.obj"),
+        &LoadOptions {
+            emit: vec![Emission {
+                material: "Torch".into(),
+                ke: [5.0, 4.0, 2.0],
+            }],
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let (shots, pixels, differ) = walked_against_drawn(&scene, 1.1782, &[16, 19, 23, 64]);
+    println!("Lost Empire: {shots} shots, {differ} of {pixels} pixels differ");
+    assert!(
+        shots >= 300 && pixels > 1_000_000,
+        "{shots} shots, {pixels} pixels"
+    );
+    // 5,883 of 1,185,750 on Mesa 22.3.6's llvmpipe (docs/perf-log.md, tenth session).
+    assert!(differ * 100 < pixels, "{differ} of {pixels} pixels differ");
+    let scene = load("simple");
+    let (shots, pixels, differ) =
+        walked_against_drawn(&scene, scene.patch_size.unwrap(), &[16, 37, 128]);
+    println!("simple room: {shots} shots, {differ} of {pixels} pixels differ");
+    // 8,294 of 5,248,565.
+    assert!(shots >= 250, "{shots} shots");
+    assert!(differ * 200 < pixels, "{differ} of {pixels} pixels differ");
 }

@@ -263,7 +263,7 @@ fn crossed_double_sided_quads_create_no_energy_on_both_solvers() {
 /// merging, 75,524 patches from the default budget, lit by its 809 torches) solved to 1 % with
 /// the defaults, as `radiosity solve lost_empire.obj --emit Torch=5,4,2 --threshold 0.01` does
 /// (docs/gallery.md): the stopping rule reached, every step within its bound, and few scaled
-/// back (131 of 2,083 steps, measured 2026-12-06; 4,274 of 4,841 while receivers on a
+/// back (126 of 2,103 steps, measured 2026-12-06, tenth session; 4,274 of 4,841 while receivers on a
 /// shooter's plane read float noise, which cost 33,875 shots instead of 14,752).
 #[test]
 fn lost_empire_solves_to_one_percent_and_every_step_is_within_its_bound() {

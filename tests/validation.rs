@@ -112,14 +112,14 @@ fn cornell_converges_under_refinement() {
     let ctx = context();
     let checks = validate::refinement(&ctx).unwrap();
     require(&checks);
-    // docs/accuracy.md: "within 0.042–0.130 %", the walls' smallest and largest error.
+    // docs/accuracy.md: "within 0.040–0.133 %", the walls' smallest and largest error.
     let errors = checks.iter().map(|c| 100.0 * c.error);
     let (low, high) = (
         errors.clone().fold(f64::INFINITY, f64::min),
         errors.fold(0.0, f64::max),
     );
-    assert_quoted("refinement, smallest error %", low, "0.042");
-    assert_quoted("refinement, largest error %", high, "0.130");
+    assert_quoted("refinement, smallest error %", low, "0.040");
+    assert_quoted("refinement, largest error %", high, "0.133");
 }
 
 #[test]

@@ -124,6 +124,28 @@ impl Texture {
         uploaded.expect("the slice holds the whole image (asserted above)");
     }
 
+    /// Replace the lower-left `width` × `height` texels of an RGBA8 texture with `rgba` (rows
+    /// bottom to top).
+    pub fn upload_u8_region(&self, width: i32, height: i32, rgba: &[u8]) {
+        assert_eq!(self.format, TextureFormat::Rgba8);
+        let (w, h) = self.allocated;
+        assert!(
+            width <= w && height <= h,
+            "{width}x{height} in a {w}x{h} texture"
+        );
+        unsafe { self.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw)) };
+        let uploaded = transfer::tex_sub_image_2d(
+            &self.gl,
+            width,
+            height,
+            PixelFormat::Rgba,
+            PixelType::UnsignedByte,
+            rgba,
+        );
+        unsafe { self.gl.bind_texture(glow::TEXTURE_2D, None) };
+        uploaded.expect("the bytes hold the whole region");
+    }
+
     /// Read the whole image back as RGBA floats (rows bottom to top).
     pub fn read_f32(&self, out: &mut Vec<f32>) {
         out.resize(self.texels() * 4, 0.0);

@@ -227,10 +227,13 @@ pub fn render(ctx: &GlContext, case: &Case) -> Result<Picture> {
                 // One shot at `res` alone: without the per-shot item-buffer sizes of the default.
                 VisibilityKind::Hemicube => SolveOptions::accurate_alone(),
             };
-            let options = SolveOptions {
+            let mut options = SolveOptions {
                 hemi_res: res,
                 ..base
             };
+            // This case holds the driver's drawing to account: the item buffer drawn, not
+            // written by the walk (`Tuning::walk_item_buffers`).
+            options.tuning.walk_item_buffers = false;
             let mut solver = GpuSolver::new(ctx, &scene, &layout, options)?;
             let polygon = solver
                 .next_polygon()

@@ -3,7 +3,9 @@
 //! [`Tuning::none`] the passes do exactly what section 3.2 describes, and every switch here
 //! leaves the answer the same (bit for bit, or to float rounding where a switch says so; the
 //! A/B tests are in `tests/tuning.rs` and `tests/data_flow.rs`). The few that
-//! change the item buffer beyond depth ties stay on in [`Tuning::none`], and say why.
+//! change the item buffer beyond depth ties stay on in [`Tuning::none`], and say why; one,
+//! [`walk_item_buffers`](Tuning::walk_item_buffers), writes the item buffer on the CPU instead of
+//! drawing it, which moves pixel centres on edges (`tests/item_buffer.rs` counts them).
 //!
 //! Why llvmpipe needs its own tricks: it shades a block of 4×4 fragments at a time, runs both
 //! sides of every branch for the whole block, and skips a block's shader only when an early depth
@@ -114,6 +116,17 @@ pub struct Tuning {
     /// reaches cannot show. A small shot on Lost Empire shows about 200 of the 17,000 polygons
     /// in front of it. Bit-identical.
     pub cull_hidden: bool,
+    /// Visibility (hemicube, with `cull_hidden`): the item buffer is not drawn but written. The
+    /// hidden-polygon walk already projects every polygon it keeps onto the shot's own pixel
+    /// centres; it also records there the ID of the nearest one (each piece clipped to the near
+    /// plane as the GPU clips it, no margins), and the pass uploads those IDs into the
+    /// item-buffer texture with glTexSubImage2D. llvmpipe is a CPU too: drawing cost the
+    /// issuing thread Mesa's vertex, clipping and set-up path and the rasteriser threads their
+    /// share, two thirds of Lost Empire's visibility pass (docs/perf-log.md). The pixels differ
+    /// from drawn ones only where a centre lies on an edge, which the GPU's fill rule gives to
+    /// one side and the walk to the nearer (or first) polygon, and the answer moves as little
+    /// as with the other depth-tie switches. Off: the views are drawn, as the paper draws them.
+    pub walk_item_buffers: bool,
     /// Visibility: a glFlush at the end of the pass, so that llvmpipe rasterises the item
     /// buffer while the CPU picks the receivers (otherwise it waits until the reconstruction
     /// binds the item buffer). Bit-identical.
@@ -147,6 +160,7 @@ impl Tuning {
             cull_solids: true,
             cull_between_samples: true,
             cull_hidden: true,
+            walk_item_buffers: true,
             flush_visibility: true,
             float_depth: true,
         }
@@ -174,6 +188,7 @@ impl Tuning {
             cull_solids: false,
             cull_between_samples: false,
             cull_hidden: false,
+            walk_item_buffers: false,
             flush_visibility: false,
             float_depth: true,
         }

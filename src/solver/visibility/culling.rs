@@ -127,11 +127,21 @@ pub struct Lists {
     pub missed: u64,
     /// The hidden polygons' test's scratch space (`Tuning::cull_hidden`).
     occlusion: occlusion::Scratch,
+    /// The item buffer the walk wrote (`Tuning::walk_item_buffers`), as the texture's RGBA8
+    /// bytes of its lower-left 5r × r pixels; empty when the views are to be drawn.
+    item_buffer: Vec<u8>,
     /// How many polygons in front of the shooters were left out as hidden.
     pub hidden: u64,
 }
 
 impl Lists {
+    /// The item buffer written by the walk instead of a draw list (`Tuning::walk_item_buffers`):
+    /// RGBA8 bytes of the lower-left 5r × r pixels, rows bottom to top; `None` when the last
+    /// list is to be drawn.
+    pub fn written_item_buffer(&self) -> Option<&[u8]> {
+        (!self.item_buffer.is_empty()).then_some(&self.item_buffer[..])
+    }
+
     /// The draw list built last.
     pub fn draw_list(&self) -> DrawList<'_> {
         DrawList {
@@ -210,6 +220,12 @@ impl Culling {
         std::mem::replace(self, empty)
     }
 
+    /// The item buffer the walk wrote for the last `draw_list`, if it wrote one
+    /// ([`Lists::written_item_buffer`]).
+    pub fn written_item_buffer(&self) -> Option<&[u8]> {
+        self.lists.written_item_buffer()
+    }
+
     /// Cull by `plates` from now on: each plate's sphere and outline stand for its polygons.
     pub fn use_plates(&mut self, scene: &Scene, plates: &Plates) {
         for (&p, outline) in &plates.outlines {
@@ -271,11 +287,20 @@ impl Culling {
                     rect.map(|x| x as usize)
                 }),
             };
+            let write = self.tuning.walk_item_buffers;
             lists.hidden += self
                 .occluders
-                .retain_shown(occlusion, &views, self.near, self.far, in_front)
+                .retain_shown(occlusion, &views, self.near, self.far, in_front, write)
                 as u64;
+            if write {
+                // The walk wrote the item buffer: no triangles to draw.
+                item_bytes(occlusion.item_ids(), r, &mut lists.item_buffer);
+                lists.indices.clear();
+                lists.views = [ViewDraw::default(); 5];
+                return;
+            }
         }
+        lists.item_buffer.clear();
         let views = match self.kind {
             VisibilityKind::Hemisphere => 1,
             VisibilityKind::Hemicube => 5,
@@ -420,6 +445,25 @@ impl Culling {
                 }
             }
             lists.in_front.push((p, c, radius));
+        }
+    }
+}
+
+/// The walk's item buffer (`ids`: per face, r × r IDs + 1, row by row from the bottom) as the
+/// texture's bytes: the five faces side by side, each pixel's ID + 1 spread over red, green and
+/// blue as `glsl/item_id.glsl` encodes it, alpha 255; a pixel showing nothing all zero, as the
+/// pass's clear leaves it.
+fn item_bytes(ids: &[u32], r: usize, bytes: &mut Vec<u8>) {
+    bytes.clear();
+    bytes.resize(5 * r * r * 4, 0);
+    for (k, face) in ids.chunks_exact(r * r).enumerate() {
+        for (y, row) in face.chunks_exact(r).enumerate() {
+            let at = (y * 5 * r + k * r) * 4;
+            for (pixel, &n) in bytes[at..at + 4 * r].chunks_exact_mut(4).zip(row) {
+                if n != 0 {
+                    pixel.copy_from_slice(&[n as u8, (n >> 8) as u8, (n >> 16) as u8, 255]);
+                }
+            }
         }
     }
 }

@@ -109,6 +109,18 @@ impl ItemSlot {
     }
 }
 
+/// Put the item buffer the walk wrote (`Tuning::walk_item_buffers`; RGBA8 `bytes` of the
+/// lower-left 5r × r pixels) into `slot`'s texture, where the views would have drawn it.
+fn write_item_buffer(
+    ctx: &GlContext,
+    slot: &ItemSlot,
+    r: i32,
+    bytes: &[u8],
+) -> Result<(), GlError> {
+    slot.item_buffer.upload_u8_region(5 * r, r, bytes);
+    ctx.check(VISIBILITY)
+}
+
 /// The pixels of hemicube face `k` (x, y, width, height within the face) that look above the
 /// shooter's horizon: all of the front face, half of each side face (see `face_rotations`:
 /// +x and -x put the shooter's normal at their left and right, +y and -y at their bottom).
@@ -272,6 +284,11 @@ impl VisibilityPass {
         let view = shooter.view();
         let r = self.resolution_of(shooter);
         let views = self.upload_draw_list(mesh, shooter, view, r);
+        if let Some(bytes) = self.culling.written_item_buffer() {
+            write_item_buffer(ctx, &self.slots[slot], r, bytes)?;
+            self.drawn = (5 * r, r);
+            return Ok(());
+        }
         let id = self.shown_as(shooter.polygon) as f32;
         self.draw(ctx, mesh, slot, id, view, r, views)
     }
@@ -384,9 +401,14 @@ impl VisibilityPass {
                     ready[k] = true;
                 }
                 let built = cells[slot].lock().expect("a builder does not panic");
-                let list = built.draw_list();
-                self.stream.upload(list.indices);
-                drawn = self.draw(ctx, mesh, slot, id, view, r, list.views);
+                if let Some(bytes) = built.written_item_buffer() {
+                    drawn = write_item_buffer(ctx, &self.slots[slot], r, bytes);
+                    self.drawn = (5 * r, r);
+                } else {
+                    let list = built.draw_list();
+                    self.stream.upload(list.indices);
+                    drawn = self.draw(ctx, mesh, slot, id, view, r, list.views);
+                }
                 if drawn.is_err() {
                     // No more claims: the builders finish what they hold and stop.
                     unclaimed.store(shots.len(), Ordering::Relaxed);

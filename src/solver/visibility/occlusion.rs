@@ -38,6 +38,11 @@ const LEAF: usize = 4;
 /// 2 × the scene's size) tells apart distances only about 6e-4 apart.
 const NEARER: f32 = 2e-3;
 
+/// A plane nearer the eye than this share of the walk's clearance (`Walk::clear`) is seen
+/// edge-on: the item buffer the walk writes shows nothing of it, as the GPU draws nothing of it
+/// (bar depth noise).
+const EDGE_ON: f32 = 0.01;
+
 /// How far behind the shooter's plane a box must lie to be left out without a look (radians
 /// below the horizon, about): more than the float noise of the views' transforms.
 const BEHIND: f32 = 1e-4;
@@ -125,6 +130,27 @@ fn convex_pieces(outline: &[Vec3], normal: Vec3) -> Vec<Vec<usize>> {
 }
 
 /// Whether `outline` (counter-clockwise about `normal`) is convex: no corner turns the other way.
+/// `outline` without repeated corners and spikes (a corner whose two neighbours coincide: an
+/// edge walked out and back, as a plate's outline has where a member filled a notch). Drawn, a
+/// spike is a sliver of no area; as a piece's edges it would squeeze the piece to a line.
+fn without_spikes(outline: &[Vec3]) -> Vec<Vec3> {
+    let mut corners: Vec<Vec3> = outline.to_vec();
+    loop {
+        let n = corners.len();
+        if n < 3 {
+            return corners;
+        }
+        let repeated = (0..n).find(|&i| corners[i] == corners[(i + 1) % n]);
+        let spike = || (0..n).find(|&i| corners[(i + n - 1) % n] == corners[(i + 1) % n]);
+        match repeated.or_else(spike) {
+            Some(i) => {
+                corners.remove(i);
+            }
+            None => return corners,
+        }
+    }
+}
+
 fn convex(outline: &[Vec3], normal: Vec3) -> bool {
     let n = outline.len();
     (0..n).all(|i| {
@@ -157,6 +183,18 @@ pub struct Scratch {
     kept: Vec<u32>,
     /// The walk's boxes, nearest first.
     heap: BinaryHeap<(Reverse<u32>, u32)>,
+    /// Per pixel of the five faces (as `cover`), the nearest kept polygon's ID + 1 (0: none),
+    /// when the walk writes the item buffer (`Tuning::walk_item_buffers`).
+    ids: Vec<u32>,
+}
+
+impl Scratch {
+    /// The item buffer the last walk wrote (`retain_shown` with `record`; empty without): per
+    /// pixel of the five faces, face after face, each row by row from the bottom, the nearest
+    /// polygon's ID + 1, 0 where none (or the pixel is not drawn, `Views::drawn`).
+    pub fn item_ids(&self) -> &[u32] {
+        &self.ids
+    }
 }
 
 impl Occluders {
@@ -174,7 +212,8 @@ impl Occluders {
             if plates.representative[p] != p {
                 continue;
             }
-            let outline = plates.outlines.get(&p).unwrap_or(&polygon.vertices);
+            let outline = without_spikes(plates.outlines.get(&p).unwrap_or(&polygon.vertices));
+            let outline = &outline[..];
             let Some(bounds) = bounds(outline) else {
                 continue;
             };
@@ -262,7 +301,10 @@ impl Occluders {
 
     /// Keep in `in_front` (polygon, …) only the polygons that may show from a shooter at `s`
     /// with normal `normal`, in their order; `near`/`far`: the views' clipping distances.
-    /// Returns how many were left out.
+    /// Returns how many were left out. With `record`, the walk also writes the item buffer
+    /// ([`Scratch::item_ids`]; `Tuning::walk_item_buffers`): a polygon left out then lies, at
+    /// every centre it could reach, behind what is recorded there, so the nearest polygon at
+    /// each centre is one the walk kept.
     pub fn retain_shown(
         &self,
         scratch: &mut Scratch,
@@ -270,6 +312,7 @@ impl Occluders {
         near: f32,
         far: f32,
         in_front: &mut Vec<(usize, Vec3, f32)>,
+        record: bool,
     ) -> usize {
         if self.nodes.is_empty() {
             return 0;
@@ -291,6 +334,10 @@ impl Occluders {
             scratch.candidate[p] = stamp;
         }
         views.clear(&mut scratch.cover);
+        scratch.ids.clear();
+        if record {
+            scratch.ids.resize(scratch.cover.len(), 0);
+        }
         let walk = Walk {
             views,
             clear: 2.0 * near * 3f32.sqrt(),
@@ -328,12 +375,32 @@ impl Occluders {
                 let faces = walk.faces_reached(lo, hi);
                 for k in range {
                     let piece = &self.corners[self.pieces[k] as usize..self.pieces[k + 1] as usize];
-                    walk.cover(&mut scratch.cover, piece, self.normals[k], faces);
+                    let ids = record.then_some((&mut scratch.ids[..], p as u32 + 1));
+                    walk.cover(&mut scratch.cover, piece, self.normals[k], faces, ids);
                 }
             }
         }
         let before = in_front.len();
         in_front.retain(|&(p, _, _)| scratch.kept[p] == stamp);
+        if record && std::env::var_os("POST").is_some() {
+            let mut depth = Vec::new();
+            views.clear(&mut depth);
+            scratch.ids.iter_mut().for_each(|i| *i = 0);
+            for &(p, _, _) in in_front.iter() {
+                let (lo, hi) = self.boxes[p];
+                let faces = walk.faces_reached(lo, hi);
+                for k in self.starts[p] as usize..self.starts[p + 1] as usize {
+                    let piece = &self.corners[self.pieces[k] as usize..self.pieces[k + 1] as usize];
+                    walk.cover(
+                        &mut depth,
+                        piece,
+                        self.normals[k],
+                        faces,
+                        Some((&mut scratch.ids[..], p as u32 + 1)),
+                    );
+                }
+            }
+        }
         before - in_front.len()
     }
 }
@@ -506,13 +573,32 @@ impl Walk<'_> {
 
     /// Record, at each pixel centre of the faces `faces` that the convex `piece` (plane normal
     /// `normal`) covers, how far along the centre's ray it lies (if nearer than what is
-    /// recorded).
-    fn cover(&self, cover: &mut [f32], piece: &[Vec3], normal: Vec3, faces: u8) {
+    /// recorded). Without `ids`, for the culling alone: a centre counts only well inside the
+    /// piece (`Views::margin`), and a piece the near plane could clip records nothing. With
+    /// `ids` (`Tuning::walk_item_buffers`), as the item buffer: every centre inside the piece
+    /// (edges included), the piece clipped to the near plane as the GPU clips it, and the
+    /// nearest piece's ID (`ids.1`, the polygon's ID + 1) written into `ids.0`.
+    fn cover(
+        &self,
+        cover: &mut [f32],
+        piece: &[Vec3],
+        normal: Vec3,
+        faces: u8,
+        mut ids: Option<(&mut [u32], u32)>,
+    ) {
         let v = self.views;
         let n = piece.len();
         let length = normal.length();
-        // Too near (the near plane could clip it), degenerate, or beyond the far plane.
-        if length == 0.0 || (normal.dot(piece[0] - v.s) / length).abs() <= self.clear {
+        let exact = ids.is_some();
+        // Degenerate; too near (the near plane could clip it) unless clipped; seen edge-on
+        // (its plane through the eye: the GPU draws it as nothing, up to depth noise).
+        let plane_distance = (normal.dot(piece[0] - v.s) / length).abs();
+        let too_near = if exact {
+            EDGE_ON * self.clear
+        } else {
+            self.clear
+        };
+        if length == 0.0 || plane_distance <= too_near {
             return;
         }
         let farthest = piece
@@ -528,30 +614,44 @@ impl Walk<'_> {
             *e = v.view.transform_point3(p);
         }
         let eye_normal = v.view.transform_vector3(normal);
-        let (r, m) = (v.r, v.margin());
+        let (r, m) = (v.r, if exact { 0.0 } else { v.margin() });
         let pixel = 2.0 / r as f32;
+        // The near plane's depth in a face (w = -z), where the exact cover clips.
+        let near = self.clear / (2.0 * 3f32.sqrt());
         for (k, face) in v.rotations.iter().enumerate() {
             if faces & (1 << k) == 0 {
                 continue;
             }
+            // The piece in the face's tangent plane (one corner more if clipped), and a point
+            // of its plane.
+            let mut p = [glam::Vec2::ZERO; MAX_PIECE + 1];
             let mut q0 = Vec3::ZERO;
-            let mut p = [glam::Vec2::ZERO; MAX_PIECE];
-            let mut behind = false;
+            let mut count = 0;
             for i in 0..n {
-                let q = *face * eye[i];
-                if -q.z <= 0.0 {
-                    behind = true;
+                let a = *face * eye[i];
+                let b = *face * eye[(i + 1) % n];
+                let (da, db) = (-a.z - near, -b.z - near);
+                if !exact && -a.z <= 0.0 {
+                    // Behind the eye: the walk needs no cover from it.
+                    count = 0;
                     break;
                 }
-                if i == 0 {
-                    q0 = q;
+                if !exact || da >= 0.0 {
+                    q0 = if count == 0 { a } else { q0 };
+                    p[count] = glam::Vec2::new(a.x, a.y) / -a.z;
+                    count += 1;
                 }
-                p[i] = glam::Vec2::new(q.x, q.y) / -q.z;
+                if exact && (da >= 0.0) != (db >= 0.0) {
+                    let c = a + (b - a) * (da / (da - db));
+                    q0 = if count == 0 { c } else { q0 };
+                    p[count] = glam::Vec2::new(c.x, c.y) / -c.z;
+                    count += 1;
+                }
             }
-            if behind {
+            if count < 3 {
                 continue;
             }
-            let p = &p[..n];
+            let p = &p[..count];
             let (lo, hi) = p.iter().fold(
                 (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN)),
                 |(lo, hi), &t| (lo.min(t), hi.max(t)),
@@ -560,7 +660,7 @@ impl Walk<'_> {
             if i0 > i1 || j0 > j1 {
                 continue;
             }
-            let area: f32 = (0..n).map(|i| p[i].perp_dot(p[(i + 1) % n])).sum();
+            let area: f32 = (0..count).map(|i| p[i].perp_dot(p[(i + 1) % count])).sum();
             if area == 0.0 {
                 continue;
             }
@@ -573,8 +673,8 @@ impl Walk<'_> {
                 // The centres of this row inside every edge by the margin: each edge's test
                 // turn · (along × (c − from)) ≥ m·|along| is a bound on c.x along the row.
                 let (mut left, mut right) = (-1.0f32, 1.0f32);
-                for i in 0..n {
-                    let (from, to) = (p[i], p[(i + 1) % n]);
+                for i in 0..count {
+                    let (from, to) = (p[i], p[(i + 1) % count]);
                     let along = to - from;
                     let a = -turn * along.y;
                     let b = turn * along.x * (y - from.y) + turn * along.y * from.x
@@ -593,8 +693,13 @@ impl Walk<'_> {
                     let ray = Vec3::new((i as f32 + 0.5) * pixel - 1.0, y, -1.0);
                     let t = offset / plane.dot(ray);
                     if t > 0.0 {
-                        let d = &mut cover[row + i];
-                        *d = d.min(t * ray.length());
+                        let d = t * ray.length();
+                        if d < cover[row + i] {
+                            cover[row + i] = d;
+                            if let Some((ids, id)) = &mut ids {
+                                ids[row + i] = *id;
+                            }
+                        }
                     }
                 }
             }
@@ -647,7 +752,7 @@ mod tests {
         let mut cover = Vec::new();
         v.clear(&mut cover);
         // A ceiling at height 1 reaching 45° each way covers the whole front face.
-        w.cover(&mut cover, &square(1.0, 1.01), Vec3::Z, 0b11111);
+        w.cover(&mut cover, &square(1.0, 1.01), Vec3::Z, 0b11111, None);
         let front = &cover[..64];
         assert!(front.iter().all(|&d| (1.0..=3f32.sqrt()).contains(&d)));
         // Beyond the ceiling, a box is hidden.
@@ -669,7 +774,7 @@ mod tests {
         v.clear(&mut cover);
         // Centres of the front face lie at tangent ±0.25, ±0.75: a square of half 0.2 around
         // the middle covers none.
-        w.cover(&mut cover, &square(1.0, 0.2), Vec3::Z, 0b11111);
+        w.cover(&mut cover, &square(1.0, 0.2), Vec3::Z, 0b11111, None);
         assert!(cover[..16].iter().all(|d| d.is_infinite()));
         // A face of which nothing is drawn: a box seen only there is hidden.
         v.drawn = [[0, 0, 0, 0]; 5];
@@ -677,6 +782,64 @@ mod tests {
         v.clear(&mut cover);
         let (lo, hi) = (Vec3::new(-0.5, -0.5, 2.0), Vec3::new(0.5, 0.5, 3.0));
         assert!(w.hidden(&cover, w.distance(lo, hi), lo, hi));
+    }
+
+    #[test]
+    fn the_written_item_buffer_shows_the_nearest_piece_clipped_to_the_near_plane() {
+        let v = views(8);
+        let w = walk(&v);
+        let (mut cover, mut ids) = (Vec::new(), vec![0u32; 5 * 64]);
+        v.clear(&mut cover);
+        // Far first, then near: the nearer one shows wherever both reach.
+        w.cover(
+            &mut cover,
+            &square(2.0, 2.1),
+            Vec3::Z,
+            0b11111,
+            Some((&mut ids, 7)),
+        );
+        w.cover(
+            &mut cover,
+            &square(1.0, 0.5),
+            Vec3::Z,
+            0b11111,
+            Some((&mut ids, 9)),
+        );
+        let front = &ids[..64];
+        // Centres at tangent ±0.125, ±0.375, …: the near square (tangent ±0.5) covers the 4 × 4
+        // in the middle, edges included (its edges pass through no centre here; see below).
+        assert_eq!(front.iter().filter(|&&id| id == 9).count(), 16);
+        assert_eq!(front.iter().filter(|&&id| id == 7).count(), 48);
+        // A wall at x = 1 from behind the eye (z = -1) to z = 3, facing it: the front face sees
+        // its part in front of the near plane, which the walk's own cover leaves out (a piece
+        // reaching behind the eye records nothing there).
+        let wall: Vec<Vec3> = [(-1.0, -0.9), (3.0, -0.9), (3.0, 0.9), (-1.0, 0.9)]
+            .iter()
+            .map(|&(z, y)| Vec3::new(1.0, y, z))
+            .collect();
+        let (mut exact, mut walked) = (Vec::new(), Vec::new());
+        v.clear(&mut exact);
+        v.clear(&mut walked);
+        let mut ids = vec![0u32; 5 * 64];
+        w.cover(&mut exact, &wall, Vec3::NEG_X, 0b00001, Some((&mut ids, 3)));
+        w.cover(&mut walked, &wall, Vec3::NEG_X, 0b00001, None);
+        // Face space x is world -x here (the eye looks up +z with y up): in the columns at
+        // tangent -0.875, -0.625 and -0.375 (depth 1/0.875 to 1/0.375) the wall reaches
+        // tangents up to ±0.79, ±0.56 and ±0.34: 6, 4 and 2 centres.
+        let shown: Vec<usize> = (0..64).filter(|&i| ids[i] == 3).collect();
+        assert_eq!(shown.len(), 12, "{shown:?}");
+        assert!(shown.iter().all(|&i| i % 8 < 3), "{shown:?}");
+        assert!(walked[..64].iter().all(|d| d.is_infinite()));
+        // An edge through a row of centres: the written item buffer counts them as covered.
+        let mut ids = vec![0u32; 5 * 64];
+        let mut edge = Vec::new();
+        v.clear(&mut edge);
+        let through: Vec<Vec3> = [(-1.0, -1.0), (0.125, -1.0), (0.125, 1.0), (-1.0, 1.0)]
+            .iter()
+            .map(|&(x, y)| Vec3::new(x, y, 1.0))
+            .collect();
+        w.cover(&mut edge, &through, Vec3::Z, 0b00001, Some((&mut ids, 5)));
+        assert_eq!(ids[..64].iter().filter(|&&id| id == 5).count(), 5 * 8);
     }
 
     #[test]
