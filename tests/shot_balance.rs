@@ -13,10 +13,9 @@ mod common;
 
 use common::*;
 use gpu_radiosity::patches::{PatchLayout, Resolution};
-use gpu_radiosity::scene::{load_obj, load_obj_with, LoadOptions, Scene};
+use gpu_radiosity::scene::{load_obj, Scene};
 use gpu_radiosity::solver::balance::{EMITTED_NOISE, TOLERANCE};
 use gpu_radiosity::solver::{default_max_shots, CpuSolver, GpuSolver, ShotRecord, SolveOptions};
-use std::path::{Path, PathBuf};
 
 /// Every shot of `history` within its bound once the float noise of the atlas's sums
 /// (`balance::EMITTED_NOISE` of the `emitted` power) is taken off what it received, as the solver
@@ -73,28 +72,6 @@ fn default_solve(name: &str, scene: &Scene, layout: &PatchLayout) -> (f64, u32) 
         walk(name, solver.history(), solver.emitted_power()),
         corrections,
     )
-}
-
-fn third_party(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes/third_party")
-        .join(path)
-}
-
-/// A third-party scene with `material` made an emitter of radiance `ke` (`--emit`).
-fn third_party_lit(path: &str, material: &str, ke: [f32; 3]) -> Scene {
-    let emit = vec![gpu_radiosity::scene::Emission {
-        material: material.into(),
-        ke,
-    }];
-    load_obj_with(
-        &third_party(path),
-        &LoadOptions {
-            emit,
-            ..Default::default()
-        },
-    )
-    .unwrap()
 }
 
 #[test]

@@ -195,3 +195,26 @@ pub fn write_tiled_room(dir: &std::path::Path, tiles: usize) -> PathBuf {
     std::fs::write(dir.join("room.mtl"), mtl).unwrap();
     dir.join("room.obj")
 }
+
+/// A scene of `scenes/third_party/` (`path` below it).
+pub fn third_party(path: &str) -> PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes/third_party")
+        .join(path)
+}
+
+/// A third-party scene with `material` made an emitter of radiance `ke` (`--emit`).
+pub fn third_party_lit(path: &str, material: &str, ke: [f32; 3]) -> Scene {
+    let emit = vec![gpu_radiosity::scene::Emission {
+        material: material.into(),
+        ke,
+    }];
+    gpu_radiosity::scene::load_obj_with(
+        &third_party(path),
+        &gpu_radiosity::scene::LoadOptions {
+            emit,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
