@@ -340,6 +340,7 @@ impl Occluders {
         }
         let walk = Walk {
             views,
+            near,
             clear: 2.0 * near * 3f32.sqrt(),
             far,
         };
@@ -382,25 +383,6 @@ impl Occluders {
         }
         let before = in_front.len();
         in_front.retain(|&(p, _, _)| scratch.kept[p] == stamp);
-        if record && std::env::var_os("POST").is_some() {
-            let mut depth = Vec::new();
-            views.clear(&mut depth);
-            scratch.ids.iter_mut().for_each(|i| *i = 0);
-            for &(p, _, _) in in_front.iter() {
-                let (lo, hi) = self.boxes[p];
-                let faces = walk.faces_reached(lo, hi);
-                for k in self.starts[p] as usize..self.starts[p + 1] as usize {
-                    let piece = &self.corners[self.pieces[k] as usize..self.pieces[k + 1] as usize];
-                    walk.cover(
-                        &mut depth,
-                        piece,
-                        self.normals[k],
-                        faces,
-                        Some((&mut scratch.ids[..], p as u32 + 1)),
-                    );
-                }
-            }
-        }
         before - in_front.len()
     }
 }
@@ -477,6 +459,9 @@ type Footprint = ((f32, f32), (f32, f32));
 /// One shot's walk: its views, and the clipping distances.
 struct Walk<'a> {
     views: &'a Views,
+    /// The views' near plane: the depth (along a face's axis) where the GPU clips, and where
+    /// the written item buffer clips too.
+    near: f32,
     /// A piece whose plane lies nearer than this may be clipped by the near plane.
     clear: f32,
     far: f32,
@@ -616,8 +601,6 @@ impl Walk<'_> {
         let eye_normal = v.view.transform_vector3(normal);
         let (r, m) = (v.r, if exact { 0.0 } else { v.margin() });
         let pixel = 2.0 / r as f32;
-        // The near plane's depth in a face (w = -z), where the exact cover clips.
-        let near = self.clear / (2.0 * 3f32.sqrt());
         for (k, face) in v.rotations.iter().enumerate() {
             if faces & (1 << k) == 0 {
                 continue;
@@ -630,7 +613,7 @@ impl Walk<'_> {
             for i in 0..n {
                 let a = *face * eye[i];
                 let b = *face * eye[(i + 1) % n];
-                let (da, db) = (-a.z - near, -b.z - near);
+                let (da, db) = (-a.z - self.near, -b.z - self.near);
                 if !exact && -a.z <= 0.0 {
                     // Behind the eye: the walk needs no cover from it.
                     count = 0;
@@ -733,6 +716,7 @@ mod tests {
     fn walk(views: &Views) -> Walk<'_> {
         Walk {
             views,
+            near: 1e-3 / (2.0 * 3f32.sqrt()),
             clear: 1e-3,
             far: 100.0,
         }
