@@ -20,6 +20,7 @@
 //! (`solids`), polygons between the pixel centres (`samples`)), and in the draw itself a guard
 //! band around each hemicube face, half side faces, float depth, and a glFlush at the end.
 
+mod box_tree;
 pub mod culling;
 pub mod occlusion;
 pub mod plates;

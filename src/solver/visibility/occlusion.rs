@@ -23,6 +23,7 @@
 //! GPU may show it at a centre in front of what lies nearer; left out, the centre shows the
 //! nearer polygon (tests/item_buffer.rs checks that those are the only pixels that change).
 
+use super::box_tree::BoxTree;
 use super::plates::Plates;
 use crate::geometry::bounds;
 use crate::scene::{triangulate, Scene};
@@ -45,16 +46,14 @@ const EDGE_ON: f32 = 0.01;
 
 /// How far behind the shooter's plane a box must lie to be left out without a look (radians
 /// below the horizon, about): more than the float noise of the views' transforms.
-const BEHIND: f32 = 1e-4;
+pub(super) const BEHIND: f32 = 1e-4;
 
 /// The scene's polygons as the visibility pass draws them, for the test: a tree of boxes and
 /// each polygon's convex pieces. Built once per scene (and again for plates).
 #[derive(Clone, Debug, Default)]
 pub struct Occluders {
-    /// The tree, root first; see [`Node`].
-    nodes: Vec<Node>,
-    /// The drawn polygons in leaf order.
-    order: Vec<u32>,
+    /// The tree of the drawn polygons' boxes.
+    tree: BoxTree,
     /// Per polygon: its drawn outline's box (lower, upper corner).
     boxes: Vec<(Vec3, Vec3)>,
     /// Per polygon: its convex pieces in `pieces`, `starts[p]..starts[p + 1]`.
@@ -159,16 +158,6 @@ fn convex(outline: &[Vec3], normal: Vec3) -> bool {
     })
 }
 
-/// A box of the tree: an inner node's children are `first` and `first + 1` (`count` 0), a leaf
-/// holds `order[first..first + count]`.
-#[derive(Clone, Copy, Debug)]
-struct Node {
-    lo: Vec3,
-    hi: Vec3,
-    first: u32,
-    count: u32,
-}
-
 /// One shot's scratch space (kept from shot to shot, one per list builder).
 #[derive(Clone, Debug, Default)]
 pub struct Scratch {
@@ -229,15 +218,7 @@ impl Occluders {
         }
         o.starts.push(o.pieces.len() as u32);
         o.pieces.push(o.corners.len() as u32);
-        if !drawn.is_empty() {
-            o.nodes.push(Node {
-                lo: Vec3::ZERO,
-                hi: Vec3::ZERO,
-                first: 0,
-                count: 0,
-            });
-            o.build(0, &mut drawn);
-        }
+        o.tree = BoxTree::new(&o.boxes, drawn, LEAF);
         o
     }
 
@@ -255,50 +236,6 @@ impl Occluders {
         self.normals.push(normal);
     }
 
-    /// Make node `at` the box around `polygons` (which end up in `order`), splitting at the
-    /// median of their centres along the widest axis down to leaves of [`LEAF`].
-    fn build(&mut self, at: usize, polygons: &mut [u32]) {
-        let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-        let (mut clo, mut chi) = (lo, hi);
-        for &p in polygons.iter() {
-            let (a, b) = self.boxes[p as usize];
-            lo = lo.min(a);
-            hi = hi.max(b);
-            clo = clo.min(a + b);
-            chi = chi.max(a + b);
-        }
-        if polygons.len() <= LEAF {
-            self.nodes[at] = Node {
-                lo,
-                hi,
-                first: self.order.len() as u32,
-                count: polygons.len() as u32,
-            };
-            self.order.extend_from_slice(polygons);
-            return;
-        }
-        let axis = (chi - clo).max_position();
-        let boxes = &self.boxes;
-        let centre = |p: &u32| {
-            let (a, b) = boxes[*p as usize];
-            a[axis] + b[axis]
-        };
-        let half = polygons.len() / 2;
-        polygons.select_nth_unstable_by(half, |a, b| centre(a).total_cmp(&centre(b)));
-        let first = self.nodes.len();
-        let empty = self.nodes[at];
-        self.nodes.extend([empty, empty]);
-        self.nodes[at] = Node {
-            lo,
-            hi,
-            first: first as u32,
-            count: 0,
-        };
-        let (left, right) = polygons.split_at_mut(half);
-        self.build(first, left);
-        self.build(first + 1, right);
-    }
-
     /// Keep in `in_front` (polygon, …) only the polygons that may show from a shooter at `s`
     /// with normal `normal`, in their order; `near`/`far`: the views' clipping distances.
     /// Returns how many were left out. With `record`, the walk also writes the item buffer
@@ -314,7 +251,7 @@ impl Occluders {
         in_front: &mut Vec<(usize, Vec3, f32)>,
         record: bool,
     ) -> usize {
-        if self.nodes.is_empty() {
+        if self.tree.nodes.is_empty() {
             return 0;
         }
         let n = self.boxes.len();
@@ -345,24 +282,24 @@ impl Occluders {
             far,
         };
         scratch.heap.clear();
-        let root = &self.nodes[0];
+        let root = &self.tree.nodes[0];
         scratch
             .heap
             .push((Reverse(walk.distance(root.lo, root.hi).to_bits()), 0));
         while let Some((Reverse(bits), at)) = scratch.heap.pop() {
-            let node = self.nodes[at as usize];
+            let node = self.tree.nodes[at as usize];
             if walk.hidden(&scratch.cover, f32::from_bits(bits), node.lo, node.hi) {
                 continue;
             }
-            if node.count == 0 {
-                for child in [node.first, node.first + 1] {
-                    let c = &self.nodes[child as usize];
+            if !node.is_leaf() {
+                for child in [node.children, node.children + 1] {
+                    let c = &self.tree.nodes[child as usize];
                     let d = walk.distance(c.lo, c.hi);
                     scratch.heap.push((Reverse(d.to_bits()), child));
                 }
                 continue;
             }
-            for &p in &self.order[node.first as usize..(node.first + node.count) as usize] {
+            for &p in self.tree.polygons(&node) {
                 let p = p as usize;
                 if scratch.candidate[p] != stamp {
                     continue;
@@ -408,7 +345,7 @@ pub struct Views {
 
 /// `x.floor()` without a call into the C library (no SSE4.1 rounding by default); exact for
 /// |x| < 2³¹, and saturating beyond, which the callers clamp.
-fn floor(x: f32) -> f32 {
+pub(super) fn floor(x: f32) -> f32 {
     let i = x as i32 as f32;
     if i > x {
         i - 1.0
@@ -451,10 +388,57 @@ impl Views {
             (first.max(0.0) as usize, last as usize)
         }
     }
+
+    /// Per face, the tangent ranges (x, then y; NDC, within [-1, 1]) the box (lower corner
+    /// `lo`, upper `hi`) may reach in it; `None` where it lies wholly outside the face's
+    /// frustum, by more than `tolerance` (NDC) beyond its edges (within it: the edge). The box
+    /// around the box in eye space, then in each face's space (a face's rotation permutes the
+    /// axes, so its box is exact there).
+    pub(super) fn footprints(&self, lo: Vec3, hi: Vec3, tolerance: f32) -> [Option<Footprint>; 5] {
+        let rotation = Mat3::from_mat4(self.view);
+        let centre = self.view.transform_point3(0.5 * (lo + hi));
+        let half = abs(&rotation) * (0.5 * (hi - lo));
+        let (elo, ehi) = (centre - half, centre + half);
+        debug_assert_eq!(self.rotations, super::face_rotations());
+        FACE_AXES.map(|axes| {
+            // The box in the face's space: each face's rotation only permutes and negates the
+            // eye space's axes (`FACE_AXES`), so no products are needed.
+            let range = |(axis, sign): (usize, f32)| {
+                if sign > 0.0 {
+                    (elo[axis], ehi[axis])
+                } else {
+                    (-ehi[axis], -elo[axis])
+                }
+            };
+            let ((xlo, xhi), (ylo, yhi), (zlo, zhi)) =
+                (range(axes[0]), range(axes[1]), range(axes[2]));
+            // Depth along the face's axis: w = -z.
+            let (w_lo, w_hi) = (-zhi, -zlo);
+            if w_hi <= 0.0 {
+                return None;
+            }
+            // Clamped to the face, a range beyond an edge comes out reversed.
+            let (u0, u1) = tangent_range(xlo, xhi, w_lo, w_hi);
+            let (v0, v1) = tangent_range(ylo, yhi, w_lo, w_hi);
+            (u0 <= u1 + tolerance && v0 <= v1 + tolerance)
+                .then_some(((u0.min(u1), u0.max(u1)), (v0.min(v1), v0.max(v1))))
+        })
+    }
 }
 
+/// Each hemicube face's rotation (`face_rotations`) as the eye-space axis and sign of the
+/// face's x, y and z: front (x, y, z), +x (z, y, -x), -x (-z, y, x), +y (x, z, -y),
+/// -y (-x, z, y).
+pub(super) const FACE_AXES: [[(usize, f32); 3]; 5] = [
+    [(0, 1.0), (1, 1.0), (2, 1.0)],
+    [(2, 1.0), (1, 1.0), (0, -1.0)],
+    [(2, -1.0), (1, 1.0), (0, 1.0)],
+    [(0, 1.0), (2, 1.0), (1, -1.0)],
+    [(0, -1.0), (2, 1.0), (1, 1.0)],
+];
+
 /// Where a box may reach in a face: its tangent ranges across and up (NDC).
-type Footprint = ((f32, f32), (f32, f32));
+pub(super) type Footprint = ((f32, f32), (f32, f32));
 
 /// One shot's walk: its views, and the clipping distances.
 struct Walk<'a> {
@@ -505,7 +489,7 @@ impl Walk<'_> {
             return false;
         }
         let (r, m) = (v.r, v.margin());
-        for (k, reach) in self.footprints(lo, hi).into_iter().enumerate() {
+        for (k, reach) in v.footprints(lo, hi, 0.0).into_iter().enumerate() {
             let Some(((u0, u1), (v0, v1))) = reach else {
                 continue;
             };
@@ -523,35 +507,10 @@ impl Walk<'_> {
         true
     }
 
-    /// Per face, the tangent ranges (x, then y; NDC, within [-1, 1]) the box (lower corner
-    /// `lo`, upper `hi`) may reach in it; `None` where it lies wholly outside the face's
-    /// frustum. The box around the box in eye space, then in each face's space (a face's
-    /// rotation permutes the axes, so its box is exact there).
-    fn footprints(&self, lo: Vec3, hi: Vec3) -> [Option<Footprint>; 5] {
-        let v = self.views;
-        let rotation = Mat3::from_mat4(v.view);
-        let centre = v.view.transform_point3(0.5 * (lo + hi));
-        let half = abs(&rotation) * (0.5 * (hi - lo));
-        std::array::from_fn(|k| {
-            let face = &v.rotations[k];
-            let c = *face * centre;
-            let e = abs(face) * half;
-            let (qlo, qhi) = (c - e, c + e);
-            // Depth along the face's axis: w = -z.
-            let (w_lo, w_hi) = (-qhi.z, -qlo.z);
-            if w_hi <= 0.0 {
-                return None;
-            }
-            let (u0, u1) = tangent_range(qlo.x, qhi.x, w_lo, w_hi);
-            let (v0, v1) = tangent_range(qlo.y, qhi.y, w_lo, w_hi);
-            (u0 <= u1 && v0 <= v1).then_some(((u0, u1), (v0, v1)))
-        })
-    }
-
     /// The faces (bit k: face k) in whose frustum part of the box (lower corner `lo`, upper
     /// `hi`) may lie.
     fn faces_reached(&self, lo: Vec3, hi: Vec3) -> u8 {
-        (self.footprints(lo, hi).iter().enumerate())
+        (self.views.footprints(lo, hi, 0.0).iter().enumerate())
             .filter(|(_, reach)| reach.is_some())
             .fold(0, |faces, (k, _)| faces | 1 << k)
     }
@@ -691,7 +650,7 @@ impl Walk<'_> {
 }
 
 /// The matrix of absolute values (to carry a box's half extents through a rotation).
-fn abs(m: &Mat3) -> Mat3 {
+pub(super) fn abs(m: &Mat3) -> Mat3 {
     Mat3::from_cols(m.x_axis.abs(), m.y_axis.abs(), m.z_axis.abs())
 }
 
@@ -860,6 +819,24 @@ mod tests {
             })
             .sum();
         assert!((area - 3.0).abs() < 1e-6, "{area}");
+    }
+
+    #[test]
+    fn the_face_axes_are_the_face_rotations() {
+        for (k, rotation) in face_rotations().iter().enumerate() {
+            for axis in 0..3 {
+                let mut v = Vec3::ZERO;
+                v[axis] = 1.0;
+                let turned = *rotation * v;
+                for (row, &(a, sign)) in FACE_AXES[k].iter().enumerate() {
+                    let expected = if a == axis { sign } else { 0.0 };
+                    assert_eq!(
+                        turned[row], expected,
+                        "face {k}, eye axis {axis}, row {row}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]
