@@ -428,6 +428,45 @@ fn writing_the_item_buffers_from_the_walk_changes_nothing_but_edge_pixels() {
 }
 
 #[test]
+fn drawing_only_what_the_walk_reaches_gives_the_same_lightmaps() {
+    // With the walk writing the item buffers, each pass draws only the blocks its shooters may
+    // reach (`visibility::seen_receivers`), and with several shooters a pass marks them shooter
+    // by shooter and shades the blocks only one reaches with that one alone: bit for bit the
+    // same lightmaps (tests/seen_receivers.rs checks the reach patch by patch).
+    let walk = |t: &mut Tuning| t.walk_item_buffers = true;
+    let off = |t: &mut Tuning| t.walk_receivers = false;
+    on_both_rooms_from(walk, off, |name, mut reached, mut every| {
+        let (mut fewer, mut all) = (0, 0);
+        for _ in 0..40 {
+            let d = step_both(name, &mut reached, &mut every, 1);
+            assert_eq!(d, 0.0, "{name}: L1 difference {d}");
+            fewer += reached.backend().reconstruction.texels_drawn();
+            all += every.backend().reconstruction.texels_drawn();
+        }
+        eprintln!("{name}: texels drawn {fewer} (reached), {all} (every patch)");
+        assert!(fewer < all, "{name}: nothing left out");
+    });
+    // Lost Empire with the defaults (eight shooters a pass), where it pays.
+    let scene = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0]);
+    let layout = layout(&scene, 1.1782);
+    let ctx = context();
+    let solver = |tweak: fn(&mut Tuning)| {
+        let mut options = SolveOptions::accurate();
+        tweak(&mut options.tuning);
+        GpuSolver::new(&ctx, &scene, &layout, options).unwrap()
+    };
+    let (mut reached, mut every) = (solver(|_| {}), solver(|t| t.walk_receivers = false));
+    let (mut fewer, mut all) = (0, 0);
+    for _ in 0..60 {
+        assert_eq!(step_both("Lost Empire", &mut reached, &mut every, 1), 0.0);
+        fewer += reached.backend().reconstruction.texels_drawn();
+        all += every.backend().reconstruction.texels_drawn();
+    }
+    eprintln!("Lost Empire: texels drawn {fewer} (reached), {all} (every patch)");
+    assert!(fewer * 2 < all, "reached {fewer} of {all} texels");
+}
+
+#[test]
 fn flushing_after_the_visibility_pass_changes_nothing() {
     let off = |t: &mut Tuning| t.flush_visibility = false;
     on_both_rooms(off, |name, mut flushed, mut queued| {

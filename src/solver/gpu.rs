@@ -6,6 +6,7 @@
 
 use super::progressive::{Backend, Solver};
 use super::reconstruction::{Lightmaps, ReconstructionPass};
+use super::visibility::seen_receivers::SeenReceivers;
 use super::visibility::VisibilityPass;
 use super::{mesh, Shooter, SolveError, SolveOptions, VisibilityKind};
 use crate::gl::GlContext;
@@ -101,6 +102,16 @@ impl<'a> GpuBackend<'a> {
         // Initialise: every patch's unshot energy is its emission (3.2: "initialise E").
         reconstruction.emit(ctx, &mesh)?;
         reconstruction.copy_into(ctx, &lightmaps)?;
+        let tuning = options.tuning;
+        if tuning.walk_receivers
+            && tuning.walk_item_buffers
+            && tuning.cull_hidden
+            && options.visibility == VisibilityKind::Hemicube
+        {
+            let positions = reconstruction.patch_positions();
+            let (width, block) = (w as usize, ReconstructionPass::BLOCK as usize);
+            visibility.use_seen_receivers(SeenReceivers::new(scene, &positions, width, block));
+        }
         let mut unshot = Vec::new();
         lightmaps.unshot.read_f32(&mut unshot);
         reconstruction.observe(&unshot);

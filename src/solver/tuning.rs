@@ -127,6 +127,15 @@ pub struct Tuning {
     /// one side and the walk to the nearer (or first) polygon, and the answer moves as little
     /// as with the other depth-tie switches. Off: the views are drawn, as the paper draws them.
     pub walk_item_buffers: bool,
+    /// Reconstruction (with `walk_item_buffers`): draw only the lightmaps of the polygons that
+    /// the pass's item buffers let receive (`visibility::seen_receivers`), plus the shooting
+    /// texels. The walk knows each pixel's polygon on the CPU, so a box of patches can be left
+    /// out when every pixel it can look up shows a polygon whose plane puts it behind, by the
+    /// reconstruction shader's own robust test. On Lost Empire a small shot reaches a few
+    /// hundred of 17,000 polygons, and the marking pass had run eight shooters' visibility tests
+    /// on every patch of the atlas, two thirds of the pass (docs/perf-log.md). The receivers are
+    /// a superset of those with a texel the shader finds visible: bit-identical.
+    pub walk_receivers: bool,
     /// Visibility: a glFlush at the end of the pass, so that llvmpipe rasterises the item
     /// buffer while the CPU picks the receivers (otherwise it waits until the reconstruction
     /// binds the item buffer). Bit-identical.
@@ -161,6 +170,7 @@ impl Tuning {
             cull_between_samples: true,
             cull_hidden: true,
             walk_item_buffers: true,
+            walk_receivers: true,
             flush_visibility: true,
             float_depth: true,
         }
@@ -189,6 +199,7 @@ impl Tuning {
             cull_between_samples: false,
             cull_hidden: false,
             walk_item_buffers: false,
+            walk_receivers: false,
             flush_visibility: false,
             float_depth: true,
         }
@@ -204,7 +215,7 @@ impl Tuning {
     /// can be cleared first): only when it neither leaves receivers out nor skips unmarked
     /// texels.
     pub fn writes_every_texel(&self) -> bool {
-        !self.receivers_only && !self.marking_pass
+        !self.receivers_only && !self.walk_receivers && !self.marking_pass
     }
 }
 

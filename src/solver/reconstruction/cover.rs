@@ -17,15 +17,16 @@ pub(super) const BLOCK: u32 = 4;
 /// Larger squares would be drawn partly over blocks that need nothing.
 const LARGEST_SQUARE: u32 = 64;
 
-/// The squares a pass draws (rebuilt every pass), in two runs: those drawn with the shader that
-/// clips the shooter to the receiver's plane, then those drawn without.
+/// The squares a pass draws (rebuilt every pass), in runs: for the pass proper, those drawn with
+/// the shader that clips the shooter to the receiver's plane, then those drawn without; for the
+/// marking pass shooter by shooter (`Tuning::walk_receivers`), each shooter's.
 pub(super) struct Squares {
     /// Points (centre, side) or two triangles each (corner, 0).
     mesh: Mesh,
     vertices: Vec<f32>,
     cover: Cover,
-    /// How many of `vertices` draw with the clipping shader (the rest without).
-    clipped_vertices: i32,
+    /// Each run's vertex range (first, count), in the order built.
+    runs: Vec<(i32, i32)>,
     /// How many texels the squares cover.
     texels: usize,
     /// Largest square side drawn, texels (a power of two, at least `BLOCK`).
@@ -74,7 +75,7 @@ impl Squares {
             mesh,
             vertices: Vec::new(),
             cover: Cover::default(),
-            clipped_vertices: 0,
+            runs: Vec::new(),
             texels: 0,
             largest,
             points_fit,
@@ -83,34 +84,32 @@ impl Squares {
         })
     }
 
-    /// Cover the blocks (`flags`: rows of `wide` blocks) that `clipped` picks, then those that
-    /// `above` picks, as points when `points` asks and the driver allows, and upload them.
-    pub(super) fn build(
+    /// Cover the blocks (`blocks`: rows of `wide` blocks) that each of `picks` picks, one run
+    /// after another, as points when `points` asks and the driver allows, and upload them.
+    pub(super) fn build<T>(
         &mut self,
-        flags: &[u8],
+        blocks: &[T],
         wide: usize,
         points: bool,
-        clipped: impl Fn(&u8) -> bool,
-        above: impl Fn(&u8) -> bool,
+        picks: &[&dyn Fn(&T) -> bool],
     ) {
         self.as_points = points && self.points_fit;
         self.vertices.clear();
+        self.runs.clear();
         let (size, points) = (self.viewport, self.as_points);
         let vertices = &mut self.vertices;
         let largest = self.largest;
         let texels = &mut self.texels;
         *texels = 0;
-        self.cover
-            .squares(flags, wide, largest, clipped, |x, y, side| {
-                *texels += (side * side) as usize;
-                push_square(vertices, points, size, x, y, side)
-            });
-        self.clipped_vertices = vertices.len() as i32 / 3;
-        self.cover
-            .squares(flags, wide, largest, above, |x, y, side| {
-                *texels += (side * side) as usize;
-                push_square(vertices, points, size, x, y, side)
-            });
+        for pick in picks {
+            let first = vertices.len() as i32 / 3;
+            self.cover
+                .squares(blocks, wide, largest, pick, |x, y, side| {
+                    *texels += (side * side) as usize;
+                    push_square(vertices, points, size, x, y, side)
+                });
+            self.runs.push((first, vertices.len() as i32 / 3 - first));
+        }
         self.mesh.replace(&self.vertices, 3);
     }
 
@@ -128,13 +127,12 @@ impl Squares {
         }
     }
 
-    /// The vertex ranges (first, count) of the squares drawn with clipping and without.
-    pub(super) fn runs(&self) -> [(i32, i32); 2] {
-        let (split, total) = (self.clipped_vertices, self.mesh.vertex_count);
-        [(0, split), (split, total - split)]
+    /// The vertex range (first, count) of run `k` of the last `build` (none: empty).
+    pub(super) fn run(&self, k: usize) -> (i32, i32) {
+        self.runs.get(k).copied().unwrap_or((0, 0))
     }
 
-    /// Draw every square (the marking pass).
+    /// Draw every square (the marking pass, for all shooters at once).
     pub(super) fn draw_all(&self) {
         self.draw(0, self.mesh.vertex_count);
     }
@@ -151,7 +149,7 @@ impl Squares {
     /// How many squares the last pass drew with the clipping shader and with the other.
     pub(super) fn drawn(&self) -> (usize, usize) {
         let per_square = if self.as_points { 1 } else { 6 };
-        let clipped = self.clipped_vertices as usize / per_square;
+        let clipped = self.run(0).1 as usize / per_square;
         let all = self.mesh.vertex_count as usize / per_square;
         (clipped, all - clipped)
     }

@@ -31,6 +31,7 @@ mod receivers;
 mod uniforms;
 
 use super::pass_names::{ACCUMULATION, INITIALISATION, RECONSTRUCTION};
+use super::visibility::seen_receivers::Reach;
 use super::visibility::VisibilityPass;
 use super::{Shooter, SolveOptions, Tuning};
 use crate::gl::faults::{self, Fault};
@@ -143,6 +144,10 @@ fn draw_flat(
     }
 }
 
+/// A choice of blocks by their flags and their shooters (`ReconstructionPass::select_receivers`).
+type PickFn = dyn Fn(&(u8, u8)) -> bool;
+type Pick = Box<PickFn>;
+
 /// The reconstruction pass (3.2.2): every receiving patch's ΔL = ρ·F·E from the shooters whose
 /// item buffers see it, drawn over the atlas into renderbuffers, then added to the lightmaps.
 pub struct ReconstructionPass {
@@ -155,6 +160,12 @@ pub struct ReconstructionPass {
     receivers: Receivers,
     /// The squares each pass draws over those blocks.
     squares: Squares,
+    /// The squares the marking pass draws for each shooter, when it marks shooter by shooter
+    /// (`mark`).
+    marks: Squares,
+    /// With how many shooters the last `select_receivers` split the pass shooter by shooter
+    /// (`marks`, and the squares' runs after the first two), if it did.
+    by_shooter: Option<usize>,
     /// The polygons the last pass drew (receivers and the shooter): the only ones whose unshot
     /// energy it can have changed.
     pub touched: Vec<usize>,
@@ -167,6 +178,9 @@ pub struct ReconstructionPass {
 }
 
 impl ReconstructionPass {
+    /// The side of the square blocks of texels the pass draws whole.
+    pub const BLOCK: u32 = cover::BLOCK;
+
     /// The pass for `scene` laid out as `layout`, serving up to `options.shooters_per_pass`
     /// shooters a pass (and, with `Tuning::compile_choices`, only `options`' choices of form
     /// factor, visibility kind and robust test).
@@ -182,6 +196,7 @@ impl ReconstructionPass {
         let programs = Programs::new(ctx, options)?;
         let receivers = Receivers::new(scene, layout);
         let squares = Squares::new(gl, width, height)?;
+        let marks = Squares::new(gl, width, height)?;
         let patches = PatchData::new(gl, width, height)?;
         let target = Renderbuffers::new(ctx, width, height)?;
         unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
@@ -193,6 +208,8 @@ impl ReconstructionPass {
             planes,
             receivers,
             squares,
+            marks,
+            by_shooter: None,
             touched: Vec::new(),
             quad_passes: 0,
             marked_passes: 0,
@@ -213,16 +230,59 @@ impl ReconstructionPass {
     /// The receivers to draw for `shooters` (`Receivers::select`), covered by aligned squares of
     /// whole 4×4 blocks, split by the shader that draws them; `touched` gets the receivers and
     /// the shooters.
-    fn select_receivers(&mut self, shooters: &[Shooter], tuning: &Tuning) {
-        self.receivers.select(shooters, tuning, &mut self.touched);
+    fn select_receivers(
+        &mut self,
+        shooters: &[Shooter],
+        tuning: &Tuning,
+        visibility: &VisibilityPass,
+    ) {
+        // Each shooter's receivers, if the walk found them for every one
+        // (`Tuning::walk_receivers`).
+        let seen: Option<Vec<&Reach>> = if tuning.walk_receivers {
+            (0..shooters.len())
+                .map(|k| visibility.receivers_seen(k))
+                .collect()
+        } else {
+            None
+        };
+        let seen = seen.as_deref();
+        self.receivers
+            .select(shooters, tuning, seen, &mut self.touched);
         let (clipped, above) = Receivers::shaders(tuning);
-        self.squares.build(
-            self.receivers.flags(),
-            self.receivers.blocks_wide(),
-            tuning.squares_as_points,
-            clipped,
-            above,
+        let wide = self.receivers.blocks_wide();
+        let points = tuning.squares_as_points;
+        let flags = self.receivers.flags();
+        // Shooter by shooter where the walk found each one's reach (and this pass marks): each
+        // marks only the blocks it may reach, and the blocks that only one shooter may reach
+        // are shaded by it alone. Lost Empire's shots each reach a quarter of the atlas or less,
+        // eight of them most of it, and half the blocks they reach only one of them reaches.
+        self.by_shooter = match (self.receivers.shooter_bits(), tuning.marking_pass) {
+            (Some(_), true) if self.programs.one.is_some() => Some(shooters.len()),
+            _ => None,
+        };
+        let Some(count) = self.by_shooter else {
+            self.squares.build(flags, wide, points, &[&clipped, &above]);
+            return;
+        };
+        let bits = self.receivers.shooter_bits().expect("checked above");
+        // Each block's flags and shooters (bit k: shooter k may reach it).
+        let blocks: Vec<(u8, u8)> = flags.iter().copied().zip(bits.iter().copied()).collect();
+        let shared = |b: u8| b.count_ones() > 1;
+        let mut picks: Vec<Pick> = vec![
+            Box::new(move |&(f, b)| clipped(&f) && shared(b)),
+            Box::new(move |&(f, b)| above(&f) && shared(b)),
+        ];
+        picks.extend(
+            (0..count).map(|k| Box::new(move |&(f, b): &(u8, u8)| f != 0 && b == 1 << k) as Pick),
         );
+        let marks: Vec<Pick> = (0..count)
+            .map(|k| Box::new(move |&(_, b): &(u8, u8)| b & (1 << k) != 0) as Pick)
+            .collect();
+        fn refs(picks: &[Pick]) -> Vec<&PickFn> {
+            picks.iter().map(|p| p.as_ref()).collect()
+        }
+        self.squares.build(&blocks, wide, points, &refs(&picks));
+        self.marks.build(&blocks, wide, points, &refs(&marks));
     }
 
     /// One reconstruction: for every patch drawn, its radiance and unshot radiance read from the
@@ -240,7 +300,7 @@ impl ReconstructionPass {
     ) -> Result<(), GlError> {
         self.refuse(shooters.len(), options)?;
         let tuning = self.tuning_of_pass(options.tuning);
-        self.select_receivers(shooters, &tuning);
+        self.select_receivers(shooters, &tuning, visibility);
         let slots = self.with_idle_slots(shooters);
         // When every texel is recomputed from the textures this pass, nothing of the last pass
         // stays in the renderbuffers.
@@ -249,17 +309,20 @@ impl ReconstructionPass {
         self.begin_squares(ctx);
         let uniforms = Uniforms::new(&slots, options, &self.planes);
         if tuning.marking_pass {
-            self.mark(ctx, &uniforms);
+            self.mark(ctx, &uniforms, shooters, visibility, options);
         }
         let quad = tuning.unroll_quads && slots.iter().all(|s| s.corner_count == 4);
         self.quad_passes += quad as u32;
         let (clipping, not_clipping) = self.programs.for_slots.shading(tuning.marking_pass, quad);
-        let [clipped, above] = self.squares.runs();
+        let [clipped, above] = [self.squares.run(0), self.squares.run(1)];
         for (p, (first, count)) in [(clipping, clipped), (not_clipping, above)] {
             if count > 0 {
                 uniforms.set(p);
                 self.squares.draw(first, count);
             }
+        }
+        if let (Some(one), Some(_)) = (&self.programs.one, self.by_shooter) {
+            self.shade_alone(one, shooters, visibility, options, tuning.unroll_quads);
         }
         self.end_squares(ctx);
         ctx.check(RECONSTRUCTION)
@@ -356,7 +419,19 @@ impl ReconstructionPass {
     /// The marking pass: depth 1 cleared, the squares' depth (½) written where a texel can
     /// receive or shoots, nothing else; then depth test EQUAL without writing, so that the pass
     /// proper shades those texels only.
-    fn mark(&self, ctx: &GlContext, uniforms: &Uniforms) {
+    ///
+    /// With the blocks each shooter may reach (`Tuning::walk_receivers`), each shooter marks
+    /// its own blocks with the one-shooter program, its item buffer on the first shooter's
+    /// unit: the same marks (a texel is marked if any shooter marks it), for a visibility test
+    /// per reached texel instead of one per shooter on every drawn texel.
+    fn mark(
+        &self,
+        ctx: &GlContext,
+        uniforms: &Uniforms,
+        shooters: &[Shooter],
+        visibility: &VisibilityPass,
+        options: &SolveOptions,
+    ) {
         let gl = &ctx.gl;
         unsafe {
             gl.depth_mask(true);
@@ -366,13 +441,55 @@ impl ReconstructionPass {
             gl.depth_func(glow::ALWAYS);
             gl.color_mask(false, false, false, false);
         }
-        uniforms.set(&self.programs.for_slots.marking);
-        self.squares.draw_all();
+        match &self.programs.one {
+            Some(one) if self.by_shooter.is_some() => {
+                for (k, shooter) in shooters.iter().enumerate() {
+                    let (first, count) = self.marks.run(k);
+                    if count == 0 {
+                        continue;
+                    }
+                    visibility.slot_texture(k).bind(UNITS.item_buffers[0]);
+                    Uniforms::new(std::slice::from_ref(shooter), options, &self.planes)
+                        .set(&one.marking);
+                    self.marks.draw(first, count);
+                }
+                visibility.slot_texture(0).bind(UNITS.item_buffers[0]);
+            }
+            _ => {
+                uniforms.set(&self.programs.for_slots.marking);
+                self.squares.draw_all();
+            }
+        }
         unsafe {
             gl.depth_func(glow::EQUAL);
             gl.depth_mask(false);
             gl.color_mask(true, true, true, true);
         }
+    }
+
+    /// The pass proper over the blocks only one shooter may reach (`select_receivers`), each by
+    /// that shooter alone, with its item buffer on the first shooter's unit: the same sums, bit
+    /// for bit, since every other shooter adds exactly zero there (`seen_receivers`).
+    fn shade_alone(
+        &self,
+        one: &programs::OneShooter,
+        shooters: &[Shooter],
+        visibility: &VisibilityPass,
+        options: &SolveOptions,
+        unroll_quads: bool,
+    ) {
+        for (k, shooter) in shooters.iter().enumerate() {
+            let (first, count) = self.squares.run(2 + k);
+            if count == 0 {
+                continue;
+            }
+            let quad = unroll_quads && shooter.corner_count == 4;
+            visibility.slot_texture(k).bind(UNITS.item_buffers[0]);
+            let program = &one.marked[quad as usize];
+            Uniforms::new(std::slice::from_ref(shooter), options, &self.planes).set(program);
+            self.squares.draw(first, count);
+        }
+        visibility.slot_texture(0).bind(UNITS.item_buffers[0]);
     }
 
     /// Undo `begin_squares` and `mark`'s state.
@@ -405,6 +522,13 @@ impl ReconstructionPass {
     /// estimated it (`LitShare::per_pass`).
     pub fn lit_share(&self) -> f32 {
         self.lit.as_ref().map_or(0.0, |l| l.per_pass())
+    }
+
+    /// The patch position atlas (RGBA: position, polygon ID + 1; `emit` rasterises it).
+    pub fn patch_positions(&self) -> Vec<f32> {
+        let mut positions = Vec::new();
+        self.patches.position.read_f32(&mut positions);
+        positions
     }
 
     /// How many texels the last pass's squares covered.

@@ -12,7 +12,7 @@ use crate::solver::pass_names::INITIALISATION;
 /// Each patch's geometry as atlas textures (RGBA32F): position + polygon ID + 1, normal, Kd.
 pub(super) struct PatchData {
     program: Program,
-    position: Texture,
+    pub(super) position: Texture,
     normal: Texture,
     reflectance: Texture,
     fbo: Framebuffer,

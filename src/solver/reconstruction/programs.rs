@@ -21,6 +21,9 @@ pub(super) struct Programs {
     /// The choices compiled into `for_slots` (`Tuning::compile_choices`); none: read from
     /// uniforms, so the programs serve any options.
     pub compiled: Option<Choices>,
+    /// The programs for one shooter, drawn for each shooter of a pass over the blocks only it
+    /// may reach (`Tuning::walk_receivers`, with several shooters a pass and the marking pass).
+    pub one: Option<OneShooter>,
     /// Writes each patch's emitted radiance (and its polygon ID in alpha) at initialisation.
     pub emission: Program,
 }
@@ -53,6 +56,15 @@ impl ShooterPrograms {
             (&self.literal[q], &self.literal[q])
         }
     }
+}
+
+/// `glsl/reconstruct.frag` compiled for one shooter (`SHOOTERS` 1), for the blocks that only one
+/// shooter of a pass may reach (`Tuning::walk_receivers`).
+pub(super) struct OneShooter {
+    /// The marking pass (`MARK`).
+    pub marking: Program,
+    /// The pass proper after it (`MARKED`), for any corner count and for quadrilaterals.
+    pub marked: [Program; 2],
 }
 
 /// A solve's fixed choices that `glsl/reconstruct.frag` branches on: the form factor, the
@@ -96,7 +108,7 @@ impl Programs {
                 "{shooters} shooters per reconstruction pass; at most {MAX_SHOOTERS_PER_PASS}"
             )));
         }
-        let frag = || {
+        let frag_for = |shooters: u32| {
             let source = glsl!("reconstruct.frag")
                 .define("SHOOTERS", shooters as i32)
                 .append(&per_shooter_functions(shooters as usize));
@@ -105,6 +117,7 @@ impl Programs {
                 None => source,
             }
         };
+        let frag = || frag_for(shooters);
         let marked = || frag().define("MARKED", 1);
         let above = || marked().define("SHOOTER_ABOVE", 1);
         let for_slots = ShooterPrograms {
@@ -113,10 +126,21 @@ impl Programs {
             above: [compile(above())?, compile(above().define("CORNERS", 4))?],
             marking: compile(frag().define("MARK", 1))?,
         };
+        let tuning = &options.tuning;
+        let one = if tuning.walk_receivers && tuning.marking_pass && shooters > 1 {
+            let marked = || frag_for(1).define("MARKED", 1);
+            Some(OneShooter {
+                marking: compile(frag_for(1).define("MARK", 1))?,
+                marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
+            })
+        } else {
+            None
+        };
         Ok(Programs {
             for_slots,
             shooters: shooters as usize,
             compiled,
+            one,
             emission: Program::new(
                 gl,
                 glsl!("lightmap.vert"),

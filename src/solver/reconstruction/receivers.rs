@@ -7,6 +7,7 @@ use super::cover::BLOCK;
 use crate::geometry::sphere_around;
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
+use crate::solver::visibility::seen_receivers::Reach;
 use crate::solver::{Shooter, Tuning};
 use glam::Vec3;
 
@@ -49,6 +50,14 @@ pub(super) struct Receivers {
     /// pass (`CLIPPED`, `SHOOTER_ABOVE`, `NOT_RECEIVING`, `SHOOTER`).
     flags: Vec<u8>,
     blocks_wide: usize,
+    /// Per 4×4 block of the atlas (as `flags`), bit k: shooter k of the pass may send it
+    /// something or shoots from it (`Tuning::walk_receivers`; all zero otherwise).
+    shooter_bits: Vec<u8>,
+    bits_known: bool,
+    /// Per polygon, the `stamp` of the last pass whose item buffers let it receive
+    /// (`Tuning::walk_receivers`).
+    seen: Vec<u32>,
+    stamp: u32,
 }
 
 impl Receivers {
@@ -77,7 +86,11 @@ impl Receivers {
             blocks: blocks_of,
             block_starts,
             flags: vec![0; blocks],
+            shooter_bits: vec![0; blocks],
+            bits_known: false,
             blocks_wide,
+            seen: vec![0; scene.polygons.len()],
+            stamp: 0,
         }
     }
 
@@ -91,27 +104,39 @@ impl Receivers {
         &self.flags
     }
 
+    /// Which shooters of the last `select` may send each block something or shoot from it
+    /// (bit k: shooter k), if it was given their reach (`Tuning::walk_receivers`).
+    pub(super) fn shooter_bits(&self) -> Option<&[u8]> {
+        self.bits_known.then_some(&self.shooter_bits[..])
+    }
+
     pub(super) fn blocks_wide(&self) -> usize {
         self.blocks_wide
     }
 
-    /// Flag the blocks a pass for `shooters` must draw: the lightmaps of the polygons that can
-    /// receive from any of them (every polygon with patches unless `tuning.receivers_only`) and
-    /// the shooting texels. A polygon has the shooters above it only if it has every one of them
-    /// above it (a shooter's own polygon, which it sends nothing, aside). `touched` gets the
-    /// receivers and the shooters.
+    /// Flag the blocks a pass for `shooters` must draw: the shooting texels, and the blocks
+    /// that can receive from any of them: those `seen` lists for some shooter when given
+    /// (`Tuning::walk_receivers`), else the lightmaps of every polygon with patches (only those
+    /// in front with `tuning.receivers_only`). A polygon has the shooters above it only if it
+    /// has every one of them above it (a shooter's own polygon, which it sends nothing, aside).
+    /// `touched` gets the receivers and the shooters.
     pub(super) fn select(
         &mut self,
         shooters: &[Shooter],
         tuning: &Tuning,
+        seen: Option<&[&Reach]>,
         touched: &mut Vec<usize>,
     ) {
         touched.clear();
         self.flags.fill(0);
-        let reaches: Vec<(Vec3, f32)> = shooters
-            .iter()
-            .map(|s| sphere_around(s.position, &s.corners[..s.corner_count.max(1)]))
-            .collect();
+        self.bits_known = seen.is_some() && shooters.len() <= 8;
+        if self.bits_known {
+            self.shooter_bits.fill(0);
+        }
+        match seen {
+            Some(reaches) => self.select_seen(reaches, touched),
+            None => self.select_in_front(shooters, tuning, touched),
+        }
         let bw = self.blocks_wide;
         let mark = |flags: &mut [u8], [x0, y0, x1, y1]: [u32; 4], flag: u8| {
             for by in y0 / BLOCK..y1.div_ceil(BLOCK) {
@@ -122,6 +147,49 @@ impl Receivers {
                 }
             }
         };
+        // The shooting texels are drawn to clear their unshot energy.
+        for (k, s) in shooters.iter().enumerate() {
+            mark(&mut self.flags, s.texels, SHOOTER);
+            if self.bits_known {
+                mark(&mut self.shooter_bits, s.texels, 1 << k);
+            }
+            if !touched.contains(&s.polygon) {
+                touched.push(s.polygon);
+            }
+        }
+    }
+
+    /// `select`'s receivers from the blocks and polygons each shooter's item buffer lets
+    /// receive (`Tuning::walk_receivers`).
+    fn select_seen(&mut self, reaches: &[&Reach], touched: &mut Vec<usize>) {
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.seen.fill(0);
+            self.stamp = 1;
+        }
+        for (k, reach) in reaches.iter().enumerate() {
+            for &b in &reach.blocks {
+                self.flags[b as usize] |= CLIPPED;
+                if self.bits_known {
+                    self.shooter_bits[b as usize] |= 1 << k;
+                }
+            }
+            for &p in &reach.polygons {
+                if self.seen[p as usize] != self.stamp {
+                    self.seen[p as usize] = self.stamp;
+                    touched.push(p as usize);
+                }
+            }
+        }
+    }
+
+    /// `select`'s receivers by where they lie: every polygon with patches, or (with
+    /// `tuning.receivers_only`) those some shooter is in front of and in front of some shooter.
+    fn select_in_front(&mut self, shooters: &[Shooter], tuning: &Tuning, touched: &mut Vec<usize>) {
+        let reaches: Vec<(Vec3, f32)> = shooters
+            .iter()
+            .map(|s| sphere_around(s.position, &s.corners[..s.corner_count.max(1)]))
+            .collect();
         for &p in &self.with_patches {
             let flag = if !tuning.receivers_only {
                 CLIPPED
@@ -151,13 +219,6 @@ impl Receivers {
                 for &b in &self.blocks[self.block_starts[p]..self.block_starts[p + 1]] {
                     self.flags[b as usize] |= flag;
                 }
-            }
-        }
-        // The shooting texels are drawn to clear their unshot energy.
-        for s in shooters {
-            mark(&mut self.flags, s.texels, SHOOTER);
-            if !touched.contains(&s.polygon) {
-                touched.push(s.polygon);
             }
         }
     }

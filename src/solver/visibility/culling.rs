@@ -12,6 +12,7 @@
 use super::occlusion::{self, Occluders};
 use super::plates::Plates;
 use super::samples::{self, Outlines};
+use super::seen_receivers::{self, Reach, SeenReceivers};
 use super::solids::Solids;
 use super::{face_rotations, Shooter, Tuning, VisibilityKind};
 use crate::geometry::{mean, sphere_around, Plane};
@@ -77,6 +78,9 @@ pub struct Culling {
     outlines: Outlines,
     /// The drawn polygons' convex pieces and a tree of their boxes, for `Tuning::cull_hidden`.
     occluders: Occluders,
+    /// Which polygons can receive from a shot whose item buffer the walk wrote
+    /// (`Tuning::walk_receivers`; empty until `use_seen_receivers`).
+    seen: SeenReceivers,
     /// The lists of `draw_list` (those of `build` belong to the caller).
     lists: Lists,
     /// How many times a view left a polygon out as falling between the pixel centres, over all
@@ -132,9 +136,19 @@ pub struct Lists {
     item_buffer: Vec<u8>,
     /// How many polygons in front of the shooters were left out as hidden.
     pub hidden: u64,
+    /// What the shot may reach (`Tuning::walk_receivers`), if known.
+    receivers: Option<Reach>,
+    /// The receivers' test's scratch space.
+    seen: seen_receivers::Scratch,
 }
 
 impl Lists {
+    /// What the last shot may reach, when the walk wrote its item buffer and the receivers'
+    /// test is set up (`Tuning::walk_receivers`); `None` otherwise.
+    pub fn receivers(&self) -> Option<&Reach> {
+        self.receivers.as_ref()
+    }
+
     /// The item buffer written by the walk instead of a draw list (`Tuning::walk_item_buffers`):
     /// RGBA8 bytes of the lower-left 5r × r pixels, rows bottom to top; `None` when the last
     /// list is to be drawn.
@@ -182,6 +196,7 @@ impl Culling {
             solids: Solids::find(scene),
             outlines: Outlines::new(scene, &none),
             occluders: Self::occluders_of(scene, kind, &tuning, &none),
+            seen: SeenReceivers::default(),
             lists: Lists::default(),
             missed: 0,
             hidden: 0,
@@ -212,6 +227,7 @@ impl Culling {
             solids: Solids::default(),
             outlines: Outlines::default(),
             occluders: Occluders::default(),
+            seen: SeenReceivers::default(),
             lists: Lists::default(),
             missed: 0,
             hidden: 0,
@@ -224,6 +240,17 @@ impl Culling {
     /// ([`Lists::written_item_buffer`]).
     pub fn written_item_buffer(&self) -> Option<&[u8]> {
         self.lists.written_item_buffer()
+    }
+
+    /// The receivers of the last `draw_list` ([`Lists::receivers`]).
+    pub fn receivers(&self) -> Option<&Reach> {
+        self.lists.receivers()
+    }
+
+    /// Find the receivers of every shot whose item buffer the walk writes from now on
+    /// (`Tuning::walk_receivers`; [`Lists::receivers`]).
+    pub fn use_seen_receivers(&mut self, seen: SeenReceivers) {
+        self.seen = seen;
     }
 
     /// Cull by `plates` from now on: each plate's sphere and outline stand for its polygons.
@@ -295,12 +322,19 @@ impl Culling {
             if write {
                 // The walk wrote the item buffer: no triangles to draw.
                 item_bytes(occlusion.item_ids(), r, &mut lists.item_buffer);
+                let mut receivers = lists.receivers.take().unwrap_or_default();
+                lists.receivers = (!self.seen.is_empty()).then(|| {
+                    let (scratch, ids) = (&mut lists.seen, occlusion.item_ids());
+                    self.seen.receivers(scratch, &views, ids, &mut receivers);
+                    receivers
+                });
                 lists.indices.clear();
                 lists.views = [ViewDraw::default(); 5];
                 return;
             }
         }
         lists.item_buffer.clear();
+        lists.receivers = None;
         let views = match self.kind {
             VisibilityKind::Hemisphere => 1,
             VisibilityKind::Hemicube => 5,

@@ -25,6 +25,7 @@ pub mod culling;
 pub mod occlusion;
 pub mod plates;
 pub mod samples;
+pub mod seen_receivers;
 pub mod solids;
 
 use super::mesh::{SceneMesh, ATTRIBUTES};
@@ -73,6 +74,9 @@ pub struct VisibilityPass {
     stream: IndexStream,
     /// The draw lists of `run_pass`, one per shooter of a pass, kept for the next.
     pass_lists: Vec<Lists>,
+    /// Per slot, the polygons that may receive from its shot, when the walk wrote its item
+    /// buffer (`Tuning::walk_receivers`).
+    receivers: Vec<Option<seen_receivers::Reach>>,
 }
 
 /// One item buffer (RGBA8, ID + 1 in RGB, 0 = nothing seen) with its depth buffer and FBO.
@@ -107,6 +111,14 @@ impl ItemSlot {
             _depth: depth,
             fbo,
         })
+    }
+}
+
+/// Keep `receivers` in `kept` (reusing its allocation).
+fn keep(kept: &mut Option<seen_receivers::Reach>, receivers: Option<&seen_receivers::Reach>) {
+    match receivers {
+        Some(r) => kept.get_or_insert_with(Default::default).clone_from(r),
+        None => *kept = None,
     }
 }
 
@@ -222,6 +234,7 @@ impl VisibilityPass {
         Ok(VisibilityPass {
             program,
             kind,
+            receivers: vec![None; slots.len()],
             slots,
             resolution: res,
             tuning,
@@ -285,6 +298,7 @@ impl VisibilityPass {
         let view = shooter.view();
         let r = self.resolution_of(shooter);
         let views = self.upload_draw_list(mesh, shooter, view, r);
+        keep(&mut self.receivers[slot], self.culling.receivers());
         if let Some(bytes) = self.culling.written_item_buffer() {
             write_item_buffer(ctx, &self.slots[slot], r, bytes)?;
             self.drawn = (5 * r, r);
@@ -402,6 +416,7 @@ impl VisibilityPass {
                     ready[k] = true;
                 }
                 let built = cells[slot].lock().expect("a builder does not panic");
+                keep(&mut self.receivers[slot], built.receivers());
                 if let Some(bytes) = built.written_item_buffer() {
                     drawn = write_item_buffer(ctx, &self.slots[slot], r, bytes);
                     self.drawn = (5 * r, r);
@@ -551,6 +566,18 @@ impl VisibilityPass {
     /// (`Tuning::cull_hidden`).
     pub fn hidden(&self) -> u64 {
         self.culling.hidden
+    }
+
+    /// Find the receivers of every shot whose item buffer the walk writes from now on
+    /// (`Tuning::walk_receivers`; `receivers_seen`).
+    pub fn use_seen_receivers(&mut self, seen: seen_receivers::SeenReceivers) {
+        self.culling.use_seen_receivers(seen);
+    }
+
+    /// What the last shot in slot `slot` may reach, when the walk wrote its item buffer and
+    /// `use_seen_receivers` set up the test (`Tuning::walk_receivers`); `None` if not known.
+    pub fn receivers_seen(&self, slot: usize) -> Option<&seen_receivers::Reach> {
+        self.receivers.get(slot)?.as_ref()
     }
 
     /// The item buffer of slot `slot` (`run_in_slot`).
