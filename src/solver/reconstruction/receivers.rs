@@ -1,7 +1,8 @@
-//! Which polygons can receive from a shooter (`Tuning::receivers_only`), and which 4×4 blocks of
-//! the atlas a pass must therefore draw (those that hold the receivers' patches, not the whole of
-//! their lightmap rectangles), with which shader: the CPU half of the reconstruction pass, run
-//! before each draw.
+//! Which polygons can receive from a shooter (by where they lie, `Tuning::receivers_only`, or by
+//! what the walk's item buffers let each shooter reach, `Tuning::walk_receivers`), and which 4×4
+//! blocks of the atlas a pass must therefore draw (those that hold the receivers' patches, not the
+//! whole of their lightmap rectangles), with which shader: the CPU half of the reconstruction
+//! pass, run before each draw.
 
 use super::cover::BLOCK;
 use crate::geometry::sphere_around;
