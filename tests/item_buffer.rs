@@ -542,53 +542,46 @@ fn walked_against_drawn(scene: &Scene, patch_size: f32, sides: &[u32]) -> (usize
     let mut shooter = solver.shooters_of(solver.next_polygon().unwrap())[0];
     let slack = scene.plane_slack();
     let (mut shots, mut pixels, mut differ) = (0, 0, 0);
-    for p in (0..n).step_by(n / 150 + 1) {
-        // Points on the polygon, as its patches are: the centres of its first and last
-        // triangles (a concave outline's centroid may lie off it, inside a block).
-        let polygon = &scene.polygons[p];
-        let triangles = gpu_radiosity::scene::triangulate(&polygon.vertices, polygon.normal);
-        for t in [triangles[0], triangles[triangles.len() - 1]] {
-            shooter.polygon = p;
-            shooter.normal = polygon.normal;
-            shooter.position = t.iter().map(|&k| polygon.vertices[k]).sum::<Vec3>() / 3.0;
-            shooter.hemi_res = sides[shots % sides.len()];
-            shooter.turn = shots as f32 * 0.37;
-            walked.run(&ctx, &geometry, &shooter).unwrap();
-            views.run(&ctx, &geometry, &shooter).unwrap();
-            assert_eq!(walked.drawn(), views.drawn(), "shot {shots}");
-            let (a, b) = (walked.read_ids(), views.read_ids());
-            let width = walked.slot_texture(0).width as usize;
-            let r = shooter.hemi_res as usize;
-            for (i, (a, b)) in a.iter().zip(&b).enumerate() {
-                let (x, y) = (i % width, i / width);
-                if x >= 5 * r || y >= r {
-                    continue;
-                }
-                // Only the pixels the reconstruction pass reads: the side faces' upper halves.
-                let face = x / r;
-                let [fx, fy, fw, fh] =
-                    gpu_radiosity::solver::visibility::front_half(face, r as i32)
-                        .map(|v| v as usize);
-                let (u, v) = (x % r, y);
-                if u < fx || u >= fx + fw || v < fy || v >= fy + fh {
-                    continue;
-                }
-                pixels += 1;
-                // Back-to-back faces in one plane (leaves, glass, the two sides of a sheet) tie
-                // in depth everywhere: the GPU shows the one drawn first, the walk the one it
-                // met first. The robust test reads only the shown plane, which they share.
-                let one_plane = |a: Option<u32>, b: Option<u32>| match (a, b) {
-                    (Some(a), Some(b)) => {
-                        let (p, q) = (&scene.polygons[a as usize], &scene.polygons[b as usize]);
-                        p.normal.dot(q.normal).abs() > 0.9999
-                            && p.plane().distance(q.centroid).abs() <= slack
-                    }
-                    _ => false,
-                };
-                differ += (a != b && !one_plane(*a, *b)) as usize;
+    for (p, position) in shooting_points(scene, 150) {
+        shooter.polygon = p;
+        shooter.normal = scene.polygons[p].normal;
+        shooter.position = position;
+        shooter.hemi_res = sides[shots % sides.len()];
+        shooter.turn = shots as f32 * 0.37;
+        walked.run(&ctx, &geometry, &shooter).unwrap();
+        views.run(&ctx, &geometry, &shooter).unwrap();
+        assert_eq!(walked.drawn(), views.drawn(), "shot {shots}");
+        let (a, b) = (walked.read_ids(), views.read_ids());
+        let width = walked.slot_texture(0).width as usize;
+        let r = shooter.hemi_res as usize;
+        for (i, (a, b)) in a.iter().zip(&b).enumerate() {
+            let (x, y) = (i % width, i / width);
+            if x >= 5 * r || y >= r {
+                continue;
             }
-            shots += 1;
+            // Only the pixels the reconstruction pass reads: the side faces' upper halves.
+            let face = x / r;
+            let [fx, fy, fw, fh] =
+                gpu_radiosity::solver::visibility::front_half(face, r as i32).map(|v| v as usize);
+            let (u, v) = (x % r, y);
+            if u < fx || u >= fx + fw || v < fy || v >= fy + fh {
+                continue;
+            }
+            pixels += 1;
+            // Back-to-back faces in one plane (leaves, glass, the two sides of a sheet) tie
+            // in depth everywhere: the GPU shows the one drawn first, the walk the one it
+            // met first. The robust test reads only the shown plane, which they share.
+            let one_plane = |a: Option<u32>, b: Option<u32>| match (a, b) {
+                (Some(a), Some(b)) => {
+                    let (p, q) = (&scene.polygons[a as usize], &scene.polygons[b as usize]);
+                    p.normal.dot(q.normal).abs() > 0.9999
+                        && p.plane().distance(q.centroid).abs() <= slack
+                }
+                _ => false,
+            };
+            differ += (a != b && !one_plane(*a, *b)) as usize;
         }
+        shots += 1;
     }
     (shots, pixels, differ)
 }

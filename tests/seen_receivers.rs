@@ -112,46 +112,42 @@ fn reach_against_shader(scene: &Scene, patch_size: f32, sides: &[u32]) -> [usize
     let slack = scene.plane_slack();
     let mut shooter = solver.shooters_of(solver.next_polygon().unwrap())[0];
     let mut totals = [0usize; 4];
-    for p in (0..n).step_by(n / 100 + 1) {
-        let polygon = &scene.polygons[p];
-        let triangles = gpu_radiosity::scene::triangulate(&polygon.vertices, polygon.normal);
-        for t in [triangles[0], triangles[triangles.len() - 1]] {
-            shooter.polygon = p;
-            shooter.normal = polygon.normal;
-            shooter.position = t.iter().map(|&k| polygon.vertices[k]).sum::<Vec3>() / 3.0;
-            shooter.hemi_res = sides[totals[0] % sides.len()];
-            shooter.turn = totals[0] as f32 * 0.37;
-            pass.run(&ctx, &geometry, &shooter).unwrap();
-            let reach = pass
-                .receivers_seen(0)
-                .expect("the walk wrote the item buffer");
-            let reached: HashSet<usize> = reach.blocks.iter().map(|&b| b as usize).collect();
-            let ids = pass.read_ids();
-            let shot = Shot {
-                shooter: &shooter,
-                view: shooter.view(),
-                ids: &ids,
-                width: pass.slot_texture(0).width as usize,
-                planes: &planes,
-                slack,
-            };
-            let mut seen = HashSet::new();
-            for &(block, pos, recv) in &patches {
-                if recv != p && shader_sees(&shot, pos, recv) {
-                    assert!(
-                        reached.contains(&block),
-                        "shot {} from polygon {p}: a patch of polygon {recv} at {pos} is seen, \
-                         its block {block} not reached",
-                        totals[0]
-                    );
-                    seen.insert(block);
-                }
+    for (p, position) in shooting_points(scene, 100) {
+        shooter.polygon = p;
+        shooter.normal = scene.polygons[p].normal;
+        shooter.position = position;
+        shooter.hemi_res = sides[totals[0] % sides.len()];
+        shooter.turn = totals[0] as f32 * 0.37;
+        pass.run(&ctx, &geometry, &shooter).unwrap();
+        let reach = pass
+            .receivers_seen(0)
+            .expect("the walk wrote the item buffer");
+        let reached: HashSet<usize> = reach.blocks.iter().map(|&b| b as usize).collect();
+        let ids = pass.read_ids();
+        let shot = Shot {
+            shooter: &shooter,
+            view: shooter.view(),
+            ids: &ids,
+            width: pass.slot_texture(0).width as usize,
+            planes: &planes,
+            slack,
+        };
+        let mut seen = HashSet::new();
+        for &(block, pos, recv) in &patches {
+            if recv != p && shader_sees(&shot, pos, recv) {
+                assert!(
+                    reached.contains(&block),
+                    "shot {} from polygon {p}: a patch of polygon {recv} at {pos} is seen, \
+                     its block {block} not reached",
+                    totals[0]
+                );
+                seen.insert(block);
             }
-            totals[0] += 1;
-            totals[1] += reached.len();
-            totals[2] += seen.len();
-            totals[3] += all.len();
         }
+        totals[0] += 1;
+        totals[1] += reached.len();
+        totals[2] += seen.len();
+        totals[3] += all.len();
     }
     totals
 }

@@ -218,3 +218,22 @@ pub fn third_party_lit(path: &str, material: &str, ke: [f32; 3]) -> Scene {
     )
     .unwrap()
 }
+
+/// Shooting points spread over `scene`: every `n / count`-th polygon, from the centres of its first
+/// and last triangles (points on the polygon, as its patches are; a concave outline's centroid may
+/// lie off it): (polygon, position), about `2 count` of them.
+pub fn shooting_points(scene: &Scene, count: usize) -> Vec<(usize, Vec3)> {
+    let n = scene.polygons.len();
+    let mut points = Vec::new();
+    for p in (0..n).step_by(n / count + 1) {
+        let polygon = &scene.polygons[p];
+        let triangles = gpu_radiosity::scene::triangulate(&polygon.vertices, polygon.normal);
+        for t in [triangles[0], triangles[triangles.len() - 1]] {
+            points.push((
+                p,
+                t.iter().map(|&k| polygon.vertices[k]).sum::<Vec3>() / 3.0,
+            ));
+        }
+    }
+    points
+}
