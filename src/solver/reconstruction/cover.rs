@@ -113,6 +113,40 @@ impl Squares {
         self.mesh.replace(&self.vertices, 3);
     }
 
+    /// `build` with one run per bit of `masks` (one mask per block, rows of `wide` blocks):
+    /// run r covers the blocks whose mask has bit r, for r below `runs`.
+    pub(super) fn build_masks(&mut self, masks: &[u16], wide: usize, points: bool, runs: usize) {
+        self.as_points = points && self.points_fit;
+        self.vertices.clear();
+        self.runs.clear();
+        let (size, points) = (self.viewport, self.as_points);
+        let vertices = &mut self.vertices;
+        let texels = &mut self.texels;
+        *texels = 0;
+        let mut first = 0;
+        let mut run = 0;
+        let end =
+            |run: &mut usize, first: &mut i32, vertices: &Vec<f32>, ends: &mut Vec<(i32, i32)>| {
+                let now = vertices.len() as i32 / 3;
+                ends.push((*first, now - *first));
+                *first = now;
+                *run += 1;
+            };
+        let ends = &mut self.runs;
+        self.cover
+            .squares_by_mask(masks, wide, self.largest, runs, |r, x, y, side| {
+                while run < r {
+                    end(&mut run, &mut first, vertices, ends);
+                }
+                *texels += (side * side) as usize;
+                push_square(vertices, points, size, x, y, side)
+            });
+        while run < runs {
+            end(&mut run, &mut first, vertices, ends);
+        }
+        self.mesh.replace(&self.vertices, 3);
+    }
+
     /// Whether the last squares were built as points.
     pub(super) fn as_points(&self) -> bool {
         self.as_points
@@ -178,6 +212,9 @@ struct Cover {
     /// Summed-area table of the set blocks: entry (x, y) counts those in [0, x) × [0, y).
     sums: Vec<u32>,
     stack: Vec<(usize, usize, usize)>,
+    /// Per level of squares (1, 2, 4, … blocks a side), per square: the OR and the AND of its
+    /// blocks' masks (`squares_by_mask`).
+    pyramid: Vec<Vec<(u16, u16)>>,
 }
 
 impl Cover {
@@ -235,9 +272,107 @@ impl Cover {
     }
 }
 
+impl Cover {
+    /// For each run r below `runs`, in order, cover the blocks whose mask (`masks`: rows of
+    /// `wide` blocks) has bit r as `squares` covers the set blocks (the same squares): `emit(r,
+    /// x, y, side)`. One pass over the blocks builds a pyramid of each square's OR and AND of
+    /// masks, which every run then descends: the runs cost what they emit, not a table each
+    /// (a pass shooter by shooter has eighteen runs).
+    fn squares_by_mask(
+        &mut self,
+        masks: &[u16],
+        wide: usize,
+        largest: u32,
+        runs: usize,
+        mut emit: impl FnMut(usize, u32, u32, u32),
+    ) {
+        let high = masks.len() / wide.max(1);
+        let top = (largest / BLOCK).max(1).ilog2() as usize;
+        self.pyramid.resize_with(top + 1, Vec::new);
+        let side_at = |level: usize| (wide.div_ceil(1 << level), high.div_ceil(1 << level));
+        self.pyramid[0].clear();
+        self.pyramid[0].extend(masks.iter().map(|&m| (m, m)));
+        for level in 1..=top {
+            let (w, h) = side_at(level);
+            let (below_w, below_h) = side_at(level - 1);
+            let (done, rest) = self.pyramid.split_at_mut(level);
+            let below = &done[level - 1];
+            let here = &mut rest[0];
+            here.clear();
+            here.resize(w * h, (0, u16::MAX));
+            for y in 0..below_h {
+                for x in 0..below_w {
+                    let (any, all) = below[y * below_w + x];
+                    let up = &mut here[(y / 2) * w + x / 2];
+                    *up = (up.0 | any, up.1 & all);
+                }
+            }
+        }
+        let (w, h) = side_at(top);
+        for r in 0..runs.min(16) {
+            let bit = 1u16 << r;
+            for y in 0..h {
+                for x in 0..w {
+                    self.stack.push((x, y, top));
+                    while let Some((x, y, level)) = self.stack.pop() {
+                        let (lw, _) = side_at(level);
+                        let (any, all) = self.pyramid[level][y * lw + x];
+                        if any & bit == 0 {
+                            continue;
+                        }
+                        if all & bit != 0 {
+                            let t = |b: usize| (b << level) as u32 * BLOCK;
+                            emit(r, t(x), t(y), BLOCK << level);
+                            continue;
+                        }
+                        let (cw, ch) = side_at(level - 1);
+                        for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                            let (cx, cy) = (2 * x + dx, 2 * y + dy);
+                            if cx < cw && cy < ch {
+                                self.stack.push((cx, cy, level - 1));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn covers_by_mask_are_the_covers_of_each_bit() {
+        // The pattern of `cover_draws_every_set_block_once_and_nothing_else`, as three bits.
+        let (wide, high) = (37usize, 23usize);
+        let masks: Vec<u16> = (0..wide * high)
+            .map(|i| {
+                let (x, y) = (i % wide, i / wide);
+                ((x < 20 && y < 17) as u16)
+                    | (((x * 7 + y * 13) % 5 < 2) as u16) << 1
+                    | ((x % 3 == 0) as u16) << 2
+            })
+            .collect();
+        let mut by_mask: Vec<Vec<(u32, u32, u32)>> = vec![Vec::new(); 3];
+        Cover::default().squares_by_mask(&masks, wide, LARGEST_SQUARE, 3, |r, x, y, side| {
+            by_mask[r].push((x, y, side))
+        });
+        for (r, got) in by_mask.iter_mut().enumerate() {
+            let mut expected = Vec::new();
+            Cover::default().squares(
+                &masks,
+                wide,
+                LARGEST_SQUARE,
+                |&m| m & 1 << r != 0,
+                |x, y, side| expected.push((x, y, side)),
+            );
+            expected.sort_unstable();
+            got.sort_unstable();
+            assert_eq!(*got, expected, "bit {r}");
+        }
+    }
 
     #[test]
     fn cover_draws_every_set_block_once_and_nothing_else() {

@@ -144,10 +144,6 @@ fn draw_flat(
     }
 }
 
-/// A choice of blocks by their flags and their shooters (`ReconstructionPass::select_receivers`).
-type PickFn = dyn Fn(&(u8, u8)) -> bool;
-type Pick = Box<PickFn>;
-
 /// The reconstruction pass (3.2.2): every receiving patch's ΔL = ρ·F·E from the shooters whose
 /// item buffers see it, drawn over the atlas into renderbuffers, then added to the lightmaps.
 pub struct ReconstructionPass {
@@ -265,24 +261,20 @@ impl ReconstructionPass {
             return;
         };
         let bits = self.receivers.shooter_bits().expect("checked above");
-        // Each block's flags and shooters (bit k: shooter k may reach it).
-        let blocks: Vec<(u8, u8)> = flags.iter().copied().zip(bits.iter().copied()).collect();
-        let shared = |b: u8| b.count_ones() > 1;
-        let mut picks: Vec<Pick> = vec![
-            Box::new(move |&(f, b)| clipped(&f) && shared(b)),
-            Box::new(move |&(f, b)| above(&f) && shared(b)),
-        ];
-        picks.extend(
-            (0..count).map(|k| Box::new(move |&(f, b): &(u8, u8)| f != 0 && b == 1 << k) as Pick),
-        );
-        let marks: Vec<Pick> = (0..count)
-            .map(|k| Box::new(move |&(_, b): &(u8, u8)| b & (1 << k) != 0) as Pick)
+        // The pass proper's runs as bits of a mask per block: 0 and 1 the blocks several
+        // shooters reach (with the clipping shader and without), 2 + k those only shooter k
+        // reaches; the marks' runs are the shooters' own bits.
+        let runs: Vec<u16> = (flags.iter().zip(bits))
+            .map(|(f, &b)| match b.count_ones() {
+                0 => 0,
+                1 if *f != 0 => 1 << (2 + b.trailing_zeros()),
+                1 => 0,
+                _ => clipped(f) as u16 | (above(f) as u16) << 1,
+            })
             .collect();
-        fn refs(picks: &[Pick]) -> Vec<&PickFn> {
-            picks.iter().map(|p| p.as_ref()).collect()
-        }
-        self.squares.build(&blocks, wide, points, &refs(&picks));
-        self.marks.build(&blocks, wide, points, &refs(&marks));
+        let marks: Vec<u16> = bits.iter().map(|&b| b as u16).collect();
+        self.squares.build_masks(&runs, wide, points, 2 + count);
+        self.marks.build_masks(&marks, wide, points, count);
     }
 
     /// One reconstruction: for every patch drawn, its radiance and unshot radiance read from the
