@@ -84,65 +84,25 @@ impl Squares {
         })
     }
 
-    /// Cover the blocks (`blocks`: rows of `wide` blocks) that each of `picks` picks, one run
-    /// after another, as points when `points` asks and the driver allows, and upload them.
-    pub(super) fn build<T>(
-        &mut self,
-        blocks: &[T],
-        wide: usize,
-        points: bool,
-        picks: &[&dyn Fn(&T) -> bool],
-    ) {
+    /// Cover, one run after another, the blocks (`masks`: one per block, rows of `wide` blocks)
+    /// whose mask has bit r, for each r below `runs`, as points when `points` asks and the driver
+    /// allows, and upload them.
+    pub(super) fn build(&mut self, masks: &[u16], wide: usize, points: bool, runs: usize) {
         self.as_points = points && self.points_fit;
         self.vertices.clear();
         self.runs.clear();
         let (size, points) = (self.viewport, self.as_points);
         let vertices = &mut self.vertices;
-        let largest = self.largest;
         let texels = &mut self.texels;
         *texels = 0;
-        for pick in picks {
+        self.cover.pyramid(masks, wide, self.largest);
+        for r in 0..runs {
             let first = vertices.len() as i32 / 3;
-            self.cover
-                .squares(blocks, wide, largest, pick, |x, y, side| {
-                    *texels += (side * side) as usize;
-                    push_square(vertices, points, size, x, y, side)
-                });
-            self.runs.push((first, vertices.len() as i32 / 3 - first));
-        }
-        self.mesh.replace(&self.vertices, 3);
-    }
-
-    /// `build` with one run per bit of `masks` (one mask per block, rows of `wide` blocks):
-    /// run r covers the blocks whose mask has bit r, for r below `runs`.
-    pub(super) fn build_masks(&mut self, masks: &[u16], wide: usize, points: bool, runs: usize) {
-        self.as_points = points && self.points_fit;
-        self.vertices.clear();
-        self.runs.clear();
-        let (size, points) = (self.viewport, self.as_points);
-        let vertices = &mut self.vertices;
-        let texels = &mut self.texels;
-        *texels = 0;
-        let mut first = 0;
-        let mut run = 0;
-        let end =
-            |run: &mut usize, first: &mut i32, vertices: &Vec<f32>, ends: &mut Vec<(i32, i32)>| {
-                let now = vertices.len() as i32 / 3;
-                ends.push((*first, now - *first));
-                *first = now;
-                *run += 1;
-            };
-        let ends = &mut self.runs;
-        self.cover
-            .squares_by_mask(masks, wide, self.largest, runs, |r, x, y, side| {
-                while run < r {
-                    end(&mut run, &mut first, vertices, ends);
-                }
+            self.cover.squares(r, |x, y, side| {
                 *texels += (side * side) as usize;
                 push_square(vertices, points, size, x, y, side)
             });
-        while run < runs {
-            end(&mut run, &mut first, vertices, ends);
+            self.runs.push((first, vertices.len() as i32 / 3 - first));
         }
         self.mesh.replace(&self.vertices, 3);
     }
@@ -180,12 +140,13 @@ impl Squares {
         self.texels
     }
 
-    /// How many squares the last pass drew with the clipping shader and with the other.
+    /// How many squares the last pass drew with the clipping shader and with the other (run 1;
+    /// every other run clips).
     pub(super) fn drawn(&self) -> (usize, usize) {
         let per_square = if self.as_points { 1 } else { 6 };
-        let clipped = self.run(0).1 as usize / per_square;
+        let above = self.run(1).1 as usize / per_square;
         let all = self.mesh.vertex_count as usize / per_square;
-        (clipped, all - clipped)
+        (all - above, above)
     }
 }
 
@@ -209,95 +170,33 @@ fn push_square(vertices: &mut Vec<f32>, points: bool, size: (i32, i32), x: u32, 
 /// Covers blocks with squares (see `Cover::squares`); keeps its scratch space between passes.
 #[derive(Default)]
 struct Cover {
-    /// Summed-area table of the set blocks: entry (x, y) counts those in [0, x) × [0, y).
-    sums: Vec<u32>,
-    stack: Vec<(usize, usize, usize)>,
-    /// Per level of squares (1, 2, 4, … blocks a side), per square: the OR and the AND of its
-    /// blocks' masks (`squares_by_mask`).
+    /// Per level of squares (1, 2, 4, … blocks a side), per square: the OR and the AND of the
+    /// masks of its blocks inside the grid.
     pyramid: Vec<Vec<(u16, u16)>>,
+    /// The grid's blocks across and up.
+    wide: usize,
+    high: usize,
+    stack: Vec<(usize, usize, usize)>,
 }
 
 impl Cover {
-    /// Cover the blocks for which `is_set` holds (`blocks`: rows of `wide` blocks) with aligned
-    /// squares of whole blocks, none larger than `largest` texels, each block exactly once:
-    /// `emit(x, y, side)` in texels. A square is split into its four quarters unless all of its
-    /// blocks inside the grid are set.
-    fn squares<T>(
-        &mut self,
-        blocks: &[T],
-        wide: usize,
-        largest: u32,
-        is_set: impl Fn(&T) -> bool,
-        mut emit: impl FnMut(u32, u32, u32),
-    ) {
-        let high = blocks.len() / wide.max(1);
-        let row = wide + 1;
-        self.sums.clear();
-        self.sums.resize(row * (high + 1), 0);
-        for y in 0..high {
-            let mut run = 0;
-            for x in 0..wide {
-                run += is_set(&blocks[y * wide + x]) as u32;
-                self.sums[(y + 1) * row + x + 1] = self.sums[y * row + x + 1] + run;
-            }
-        }
-        let sums = &self.sums;
-        let count = |x0: usize, y0: usize, x1: usize, y1: usize| {
-            sums[y1 * row + x1] + sums[y0 * row + x0] - sums[y0 * row + x1] - sums[y1 * row + x0]
-        };
-        let top = (largest / BLOCK) as usize;
-        for y in (0..high).step_by(top) {
-            for x in (0..wide).step_by(top) {
-                self.stack.push((x, y, top));
-                while let Some((x, y, side)) = self.stack.pop() {
-                    let (x1, y1) = ((x + side).min(wide), (y + side).min(high));
-                    let set = count(x, y, x1, y1) as usize;
-                    if set == 0 {
-                        continue;
-                    }
-                    if set == (x1 - x) * (y1 - y) {
-                        let t = |b: usize| b as u32 * BLOCK;
-                        emit(t(x), t(y), t(side));
-                        continue;
-                    }
-                    let half = side / 2;
-                    for (dx, dy) in [(0, 0), (half, 0), (0, half), (half, half)] {
-                        if x + dx < wide && y + dy < high {
-                            self.stack.push((x + dx, y + dy, half));
-                        }
-                    }
-                }
-            }
-        }
-    }
-}
-
-impl Cover {
-    /// For each run r below `runs`, in order, cover the blocks whose mask (`masks`: rows of
-    /// `wide` blocks) has bit r as `squares` covers the set blocks (the same squares): `emit(r,
-    /// x, y, side)`. One pass over the blocks builds a pyramid of each square's OR and AND of
-    /// masks, which every run then descends: the runs cost what they emit, not a table each
-    /// (a pass shooter by shooter has eighteen runs).
-    fn squares_by_mask(
-        &mut self,
-        masks: &[u16],
-        wide: usize,
-        largest: u32,
-        runs: usize,
-        mut emit: impl FnMut(usize, u32, u32, u32),
-    ) {
-        let high = masks.len() / wide.max(1);
+    /// Prepare to cover the blocks of `masks` (rows of `wide` blocks) with squares of at most
+    /// `largest` texels: one pass over the blocks builds each square's OR and AND of masks, and
+    /// every `squares` then only descends where its bit is set (a pass shooter by shooter
+    /// covers eighteen sets of blocks).
+    fn pyramid(&mut self, masks: &[u16], wide: usize, largest: u32) {
+        self.wide = wide;
+        self.high = masks.len() / wide.max(1);
         let top = (largest / BLOCK).max(1).ilog2() as usize;
         self.pyramid.resize_with(top + 1, Vec::new);
-        let side_at = |level: usize| (wide.div_ceil(1 << level), high.div_ceil(1 << level));
+        self.pyramid.truncate(top + 1);
         self.pyramid[0].clear();
         self.pyramid[0].extend(masks.iter().map(|&m| (m, m)));
         for level in 1..=top {
-            let (w, h) = side_at(level);
-            let (below_w, below_h) = side_at(level - 1);
+            let (w, h) = self.size(level);
+            let (below_w, below_h) = self.size(level - 1);
             let (done, rest) = self.pyramid.split_at_mut(level);
-            let below = &done[level - 1];
-            let here = &mut rest[0];
+            let (below, here) = (&done[level - 1], &mut rest[0]);
             here.clear();
             here.resize(w * h, (0, u16::MAX));
             for y in 0..below_h {
@@ -308,29 +207,44 @@ impl Cover {
                 }
             }
         }
-        let (w, h) = side_at(top);
-        for r in 0..runs.min(16) {
-            let bit = 1u16 << r;
-            for y in 0..h {
-                for x in 0..w {
-                    self.stack.push((x, y, top));
-                    while let Some((x, y, level)) = self.stack.pop() {
-                        let (lw, _) = side_at(level);
-                        let (any, all) = self.pyramid[level][y * lw + x];
-                        if any & bit == 0 {
-                            continue;
-                        }
-                        if all & bit != 0 {
-                            let t = |b: usize| (b << level) as u32 * BLOCK;
-                            emit(r, t(x), t(y), BLOCK << level);
-                            continue;
-                        }
-                        let (cw, ch) = side_at(level - 1);
-                        for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                            let (cx, cy) = (2 * x + dx, 2 * y + dy);
-                            if cx < cw && cy < ch {
-                                self.stack.push((cx, cy, level - 1));
-                            }
+    }
+
+    /// The squares across and up at `level` (2^level blocks a side).
+    fn size(&self, level: usize) -> (usize, usize) {
+        (
+            self.wide.div_ceil(1 << level),
+            self.high.div_ceil(1 << level),
+        )
+    }
+
+    /// Cover the blocks of the last `pyramid` whose mask has bit `bit` with aligned squares of
+    /// whole blocks, each block exactly once: `emit(x, y, side)` in texels. A square is split
+    /// into its four quarters unless all of its blocks inside the grid have the bit.
+    fn squares(&mut self, bit: usize, mut emit: impl FnMut(u32, u32, u32)) {
+        let Some(bit) = 1u16.checked_shl(bit as u32) else {
+            return;
+        };
+        let top = self.pyramid.len() - 1;
+        let (w, h) = self.size(top);
+        for y in 0..h {
+            for x in 0..w {
+                self.stack.push((x, y, top));
+                while let Some((x, y, level)) = self.stack.pop() {
+                    let (any, all) = self.pyramid[level][y * self.size(level).0 + x];
+                    if any & bit == 0 {
+                        continue;
+                    }
+                    if all & bit != 0 {
+                        let t = |b: usize| (b << level) as u32 * BLOCK;
+                        emit(t(x), t(y), BLOCK << level);
+                        continue;
+                    }
+                    // Not all set: not a single block, so there are quarters.
+                    let (cw, ch) = self.size(level - 1);
+                    for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                        let (cx, cy) = (2 * x + dx, 2 * y + dy);
+                        if cx < cw && cy < ch {
+                            self.stack.push((cx, cy, level - 1));
                         }
                     }
                 }
@@ -344,58 +258,28 @@ mod tests {
     use super::*;
 
     #[test]
-    fn covers_by_mask_are_the_covers_of_each_bit() {
-        // The pattern of `cover_draws_every_set_block_once_and_nothing_else`, as three bits.
+    fn cover_draws_every_set_block_once_and_nothing_else() {
+        // 37 x 23 blocks (not a multiple of any square), three sets of blocks as three bits of
+        // the masks: a pseudo-random pattern with solid patches, so that squares of every size
+        // appear, and two others.
         let (wide, high) = (37usize, 23usize);
         let masks: Vec<u16> = (0..wide * high)
             .map(|i| {
                 let (x, y) = (i % wide, i / wide);
-                ((x < 20 && y < 17) as u16)
+                ((x < 20 && y < 17 || (x * 7 + y * 13) % 5 < 2) as u16)
                     | (((x * 7 + y * 13) % 5 < 2) as u16) << 1
                     | ((x % 3 == 0) as u16) << 2
             })
             .collect();
-        let mut by_mask: Vec<Vec<(u32, u32, u32)>> = vec![Vec::new(); 3];
-        Cover::default().squares_by_mask(&masks, wide, LARGEST_SQUARE, 3, |r, x, y, side| {
-            by_mask[r].push((x, y, side))
-        });
-        for (r, got) in by_mask.iter_mut().enumerate() {
-            let mut expected = Vec::new();
-            Cover::default().squares(
-                &masks,
-                wide,
-                LARGEST_SQUARE,
-                |&m| m & 1 << r != 0,
-                |x, y, side| expected.push((x, y, side)),
-            );
-            expected.sort_unstable();
-            got.sort_unstable();
-            assert_eq!(*got, expected, "bit {r}");
-        }
-    }
-
-    #[test]
-    fn cover_draws_every_set_block_once_and_nothing_else() {
-        // 37 x 23 blocks (not a multiple of any square), a pseudo-random pattern with solid
-        // patches, so that squares of every size appear.
-        let (wide, high) = (37usize, 23usize);
-        let blocks: Vec<bool> = (0..wide * high)
-            .map(|i| {
-                let (x, y) = (i % wide, i / wide);
-                (x < 20 && y < 17) || (x * 7 + y * 13) % 5 < 2
-            })
-            .collect();
-        let mut drawn = vec![0u32; blocks.len()];
-        let mut sides = std::collections::BTreeSet::new();
-        Cover::default().squares(
-            &blocks,
-            wide,
-            LARGEST_SQUARE,
-            |&b| b,
-            |x, y, side| {
+        let mut cover = Cover::default();
+        cover.pyramid(&masks, wide, LARGEST_SQUARE);
+        for bit in 0..3 {
+            let mut drawn = vec![0u32; masks.len()];
+            let mut sides = std::collections::BTreeSet::new();
+            cover.squares(bit, |x, y, side| {
                 assert!(
                     x % side == 0 && y % side == 0,
-                    "square {x},{y} side {side} unaligned"
+                    "bit {bit}: square {x},{y} side {side} unaligned"
                 );
                 sides.insert(side);
                 let b = |t: u32| (t / BLOCK) as usize;
@@ -404,12 +288,15 @@ mod tests {
                         drawn[by * wide + bx] += 1;
                     }
                 }
-            },
-        );
-        for (i, (&set, &n)) in blocks.iter().zip(&drawn).enumerate() {
-            assert_eq!(n, set as u32, "block {i}: set {set}, drawn {n} times");
+            });
+            for (i, (&m, &n)) in masks.iter().zip(&drawn).enumerate() {
+                let set = (m >> bit & 1) as u32;
+                assert_eq!(n, set, "bit {bit}, block {i}: set {set}, drawn {n} times");
+            }
+            if bit == 0 {
+                assert!(sides.len() >= 3, "sides used: {sides:?}");
+            }
         }
-        assert!(sides.len() >= 3, "sides used: {sides:?}");
     }
 
     #[test]

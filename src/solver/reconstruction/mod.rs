@@ -256,14 +256,17 @@ impl ReconstructionPass {
             (Some(_), true) if self.programs.one.is_some() => Some(shooters.len()),
             _ => None,
         };
+        // The pass proper's runs as bits of a mask per block: 0 and 1 the blocks to shade with
+        // the clipping shader and without; shooter by shooter, those only for the blocks several
+        // shooters reach, and 2 + k those only shooter k reaches.
         let Some(count) = self.by_shooter else {
-            self.squares.build(flags, wide, points, &[&clipped, &above]);
+            let runs: Vec<u16> = (flags.iter())
+                .map(|f| clipped(f) as u16 | (above(f) as u16) << 1)
+                .collect();
+            self.squares.build(&runs, wide, points, 2);
             return;
         };
         let bits = self.receivers.shooter_bits().expect("checked above");
-        // The pass proper's runs as bits of a mask per block: 0 and 1 the blocks several
-        // shooters reach (with the clipping shader and without), 2 + k those only shooter k
-        // reaches; the marks' runs are the shooters' own bits.
         let runs: Vec<u16> = (flags.iter().zip(bits))
             .map(|(f, &b)| match b.count_ones() {
                 0 => 0,
@@ -272,9 +275,10 @@ impl ReconstructionPass {
                 _ => clipped(f) as u16 | (above(f) as u16) << 1,
             })
             .collect();
+        // The marks' runs are the shooters' own bits.
         let marks: Vec<u16> = bits.iter().map(|&b| b as u16).collect();
-        self.squares.build_masks(&runs, wide, points, 2 + count);
-        self.marks.build_masks(&marks, wide, points, count);
+        self.squares.build(&runs, wide, points, 2 + count);
+        self.marks.build(&marks, wide, points, count);
     }
 
     /// One reconstruction: for every patch drawn, its radiance and unshot radiance read from the
@@ -300,8 +304,15 @@ impl ReconstructionPass {
         self.bind_textures(visibility, lightmaps, shooters.len());
         self.begin_squares(ctx);
         let uniforms = Uniforms::new(&slots, options, &self.planes);
+        // Shooter by shooter (`select_receivers`): each shooter's own uniforms, for its marks
+        // and for the blocks it alone reaches.
+        let each: Option<Vec<Uniforms>> = self.by_shooter.map(|_| {
+            (shooters.iter())
+                .map(|s| Uniforms::new(std::slice::from_ref(s), options, &self.planes))
+                .collect()
+        });
         if tuning.marking_pass {
-            self.mark(ctx, &uniforms, shooters, visibility, options);
+            self.mark(ctx, &uniforms, each.as_deref(), visibility);
         }
         let quad = tuning.unroll_quads && slots.iter().all(|s| s.corner_count == 4);
         self.quad_passes += quad as u32;
@@ -313,8 +324,8 @@ impl ReconstructionPass {
                 self.squares.draw(first, count);
             }
         }
-        if let (Some(one), Some(_)) = (&self.programs.one, self.by_shooter) {
-            self.shade_alone(one, shooters, visibility, options, tuning.unroll_quads);
+        if let Some(each) = &each {
+            self.shade_alone(each, shooters, visibility, tuning.unroll_quads);
         }
         self.end_squares(ctx);
         ctx.check(RECONSTRUCTION)
@@ -412,17 +423,17 @@ impl ReconstructionPass {
     /// receive or shoots, nothing else; then depth test EQUAL without writing, so that the pass
     /// proper shades those texels only.
     ///
-    /// With the blocks each shooter may reach (`Tuning::walk_receivers`), each shooter marks
-    /// its own blocks with the one-shooter program, its item buffer on the first shooter's
-    /// unit: the same marks (a texel is marked if any shooter marks it), for a visibility test
-    /// per reached texel instead of one per shooter on every drawn texel.
+    /// With the blocks each shooter may reach (`Tuning::walk_receivers`; `each`: each shooter's
+    /// uniforms), each shooter marks its own blocks with the one-shooter program, its item
+    /// buffer on the first shooter's unit: the same marks (a texel is marked if any shooter
+    /// marks it), for a visibility test per reached texel instead of one per shooter on every
+    /// drawn texel.
     fn mark(
         &self,
         ctx: &GlContext,
         uniforms: &Uniforms,
-        shooters: &[Shooter],
+        each: Option<&[Uniforms]>,
         visibility: &VisibilityPass,
-        options: &SolveOptions,
     ) {
         let gl = &ctx.gl;
         unsafe {
@@ -433,16 +444,15 @@ impl ReconstructionPass {
             gl.depth_func(glow::ALWAYS);
             gl.color_mask(false, false, false, false);
         }
-        match &self.programs.one {
-            Some(one) if self.by_shooter.is_some() => {
-                for (k, shooter) in shooters.iter().enumerate() {
+        match (each, &self.programs.one) {
+            (Some(each), Some(one)) => {
+                for (k, own) in each.iter().enumerate() {
                     let (first, count) = self.marks.run(k);
                     if count == 0 {
                         continue;
                     }
                     visibility.slot_texture(k).bind(UNITS.item_buffers[0]);
-                    Uniforms::new(std::slice::from_ref(shooter), options, &self.planes)
-                        .set(&one.marking);
+                    own.set(&one.marking);
                     self.marks.draw(first, count);
                 }
                 visibility.slot_texture(0).bind(UNITS.item_buffers[0]);
@@ -459,26 +469,28 @@ impl ReconstructionPass {
         }
     }
 
-    /// The pass proper over the blocks only one shooter may reach (`select_receivers`), each by
-    /// that shooter alone, with its item buffer on the first shooter's unit: the same sums, bit
-    /// for bit, since every other shooter adds exactly zero there (`seen_receivers`).
+    /// The pass proper over the blocks only one shooter may reach (`select_receivers`; `each`:
+    /// each shooter's uniforms), each by that shooter alone, with its item buffer on the first
+    /// shooter's unit: the same sums, bit for bit, since every other shooter adds exactly zero
+    /// there (`seen_receivers`).
     fn shade_alone(
         &self,
-        one: &programs::OneShooter,
+        each: &[Uniforms],
         shooters: &[Shooter],
         visibility: &VisibilityPass,
-        options: &SolveOptions,
         unroll_quads: bool,
     ) {
-        for (k, shooter) in shooters.iter().enumerate() {
+        let Some(one) = &self.programs.one else {
+            return;
+        };
+        for (k, (own, shooter)) in each.iter().zip(shooters).enumerate() {
             let (first, count) = self.squares.run(2 + k);
             if count == 0 {
                 continue;
             }
             let quad = unroll_quads && shooter.corner_count == 4;
             visibility.slot_texture(k).bind(UNITS.item_buffers[0]);
-            let program = &one.marked[quad as usize];
-            Uniforms::new(std::slice::from_ref(shooter), options, &self.planes).set(program);
+            own.set(&one.marked[quad as usize]);
             self.squares.draw(first, count);
         }
         visibility.slot_texture(0).bind(UNITS.item_buffers[0]);
