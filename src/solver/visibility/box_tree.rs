@@ -49,11 +49,6 @@ impl BoxTree {
         tree
     }
 
-    /// The polygons of node `node`.
-    pub fn polygons(&self, node: &Node) -> &[u32] {
-        &self.order[node.start as usize..node.end as usize]
-    }
-
     /// Make node `at` the box around `polygons` (which end up in `order`).
     fn build(&mut self, at: usize, boxes: &[(Vec3, Vec3)], polygons: &mut [u32], leaf: usize) {
         let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
@@ -117,7 +112,7 @@ mod tests {
         sorted.sort_unstable();
         assert_eq!(sorted, (0..37).collect::<Vec<_>>());
         for node in &tree.nodes {
-            for &p in tree.polygons(node) {
+            for &p in &tree.order[node.start as usize..node.end as usize] {
                 let (a, b) = boxes[p as usize];
                 assert!(node.lo.cmple(a).all() && b.cmple(node.hi).all());
             }

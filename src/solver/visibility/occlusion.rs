@@ -50,13 +50,19 @@ pub(super) const BEHIND: f32 = 1e-4;
 
 /// The scene's polygons as the visibility pass draws them, for the test: a tree of boxes and
 /// each polygon's convex pieces. Built once per scene (and again for plates).
+///
+/// Boxes and pieces are stored in the tree's leaf order (`BoxTree::order`), not by polygon, so
+/// that a leaf's polygons lie side by side in memory: the walk is bound by the loads of what
+/// it visits, a few thousand polygons a shot scattered over megabytes otherwise.
 #[derive(Clone, Debug, Default)]
 pub struct Occluders {
     /// The tree of the drawn polygons' boxes.
     tree: BoxTree,
-    /// Per polygon: its drawn outline's box (lower, upper corner).
+    /// Per polygon: its index in leaf order (`u32::MAX`: not drawn).
+    rank: Vec<u32>,
+    /// Per leaf-order index: the drawn outline's box (lower, upper corner).
     boxes: Vec<(Vec3, Vec3)>,
-    /// Per polygon: its convex pieces in `pieces`, `starts[p]..starts[p + 1]`.
+    /// Per leaf-order index k: its convex pieces in `pieces`, `starts[k]..starts[k + 1]`.
     starts: Vec<u32>,
     /// Every drawn polygon's convex pieces (its outline if convex, else `convex_pieces`): each
     /// piece's corners in `corners`, `pieces[k]..pieces[k + 1]`.
@@ -166,7 +172,8 @@ pub struct Scratch {
     cover: Vec<f32>,
     /// The shot's number, stamped into `candidate` and `kept` (no clearing per shot).
     stamp: u32,
-    /// Per polygon: the stamp of the last shot that would draw it.
+    /// Per leaf-order index (`Occluders::rank`): the stamp of the last shot that would draw
+    /// the polygon.
     candidate: Vec<u32>,
     /// Per polygon: the stamp of the last shot that kept it.
     kept: Vec<u32>,
@@ -190,14 +197,11 @@ impl Occluders {
     /// The polygons drawn under `plates` (each plate as its representative's outline).
     pub fn new(scene: &Scene, plates: &Plates) -> Occluders {
         let n = scene.polygons.len();
-        let mut o = Occluders {
-            boxes: vec![(Vec3::ZERO, Vec3::ZERO); n],
-            starts: Vec::with_capacity(n + 1),
-            ..Occluders::default()
-        };
+        let mut boxes = vec![(Vec3::ZERO, Vec3::ZERO); n];
+        // Per polygon, its convex pieces' corners, until the tree gives their order.
+        let mut pieces: Vec<Vec<Vec<Vec3>>> = vec![Vec::new(); n];
         let mut drawn = Vec::new();
         for (p, polygon) in scene.polygons.iter().enumerate() {
-            o.starts.push(o.pieces.len() as u32);
             if plates.representative[p] != p {
                 continue;
             }
@@ -206,19 +210,33 @@ impl Occluders {
             let Some(bounds) = bounds(outline) else {
                 continue;
             };
-            o.boxes[p] = bounds;
-            if outline.len() <= MAX_PIECE && convex(outline, polygon.normal) {
-                o.push_piece(outline.iter().copied());
+            boxes[p] = bounds;
+            pieces[p] = if outline.len() <= MAX_PIECE && convex(outline, polygon.normal) {
+                vec![outline.to_vec()]
             } else {
-                for piece in convex_pieces(outline, polygon.normal) {
-                    o.push_piece(piece.iter().map(|&k| outline[k]));
-                }
-            }
+                (convex_pieces(outline, polygon.normal).iter())
+                    .map(|piece| piece.iter().map(|&k| outline[k]).collect())
+                    .collect()
+            };
             drawn.push(p as u32);
+        }
+        let tree = BoxTree::new(&boxes, drawn, LEAF);
+        let mut o = Occluders {
+            rank: vec![u32::MAX; n],
+            starts: Vec::with_capacity(tree.order.len() + 1),
+            ..Occluders::default()
+        };
+        for (k, &p) in tree.order.iter().enumerate() {
+            o.rank[p as usize] = k as u32;
+            o.boxes.push(boxes[p as usize]);
+            o.starts.push(o.pieces.len() as u32);
+            for piece in &pieces[p as usize] {
+                o.push_piece(piece.iter().copied());
+            }
         }
         o.starts.push(o.pieces.len() as u32);
         o.pieces.push(o.corners.len() as u32);
-        o.tree = BoxTree::new(&o.boxes, drawn, LEAF);
+        o.tree = tree;
         o
     }
 
@@ -254,9 +272,9 @@ impl Occluders {
         if self.tree.nodes.is_empty() {
             return 0;
         }
-        let n = self.boxes.len();
-        if scratch.candidate.len() != n {
-            scratch.candidate = vec![0; n];
+        let (drawn, n) = (self.boxes.len(), self.rank.len());
+        if scratch.candidate.len() != drawn || scratch.kept.len() != n {
+            scratch.candidate = vec![0; drawn];
             scratch.kept = vec![0; n];
             scratch.stamp = 0;
         }
@@ -268,7 +286,9 @@ impl Occluders {
         }
         let stamp = scratch.stamp;
         for &(p, _, _) in in_front.iter() {
-            scratch.candidate[p] = stamp;
+            if let Some(&k) = self.rank.get(p).filter(|&&k| k != u32::MAX) {
+                scratch.candidate[k as usize] = stamp;
+            }
         }
         views.clear(&mut scratch.cover);
         scratch.ids.clear();
@@ -299,17 +319,17 @@ impl Occluders {
                 }
                 continue;
             }
-            for &p in self.tree.polygons(&node) {
-                let p = p as usize;
-                if scratch.candidate[p] != stamp {
+            for at in node.start as usize..node.end as usize {
+                if scratch.candidate[at] != stamp {
                     continue;
                 }
-                let (lo, hi) = self.boxes[p];
+                let (lo, hi) = self.boxes[at];
                 if walk.hidden(&scratch.cover, walk.distance(lo, hi), lo, hi) {
                     continue;
                 }
+                let p = self.tree.order[at] as usize;
                 scratch.kept[p] = stamp;
-                let range = self.starts[p] as usize..self.starts[p + 1] as usize;
+                let range = self.starts[at] as usize..self.starts[at + 1] as usize;
                 let faces = walk.faces_reached(lo, hi);
                 for k in range {
                     let piece = &self.corners[self.pieces[k] as usize..self.pieces[k + 1] as usize];

@@ -59,12 +59,13 @@ impl Hider {
         eye_normal: Vec3::ZERO,
         reach: f32::INFINITY,
     };
+}
 
-    /// Whether the box around `centre` with half extents `half` lies wholly beyond the plane.
-    fn hides(&self, centre: Vec3, half: Vec3) -> bool {
-        let n = self.plane.truncate();
-        n.dot(centre) - n.abs().dot(half) > self.plane.w
-    }
+/// Whether the box around `centre` with half extents `half` lies wholly beyond `plane`
+/// (`Hider::plane`).
+fn hides(plane: Vec4, centre: Vec3, half: Vec3) -> bool {
+    let n = plane.truncate();
+    n.dot(centre) - n.abs().dot(half) > plane.w
 }
 
 /// What a shot can reach: polygons, and the atlas blocks of their patches (rows of blocks), each
@@ -78,13 +79,19 @@ pub struct Reach {
 }
 
 /// The patches' boxes and planes, and the tree the test walks (built once per solve).
+///
+/// The boxes and blocks are stored in the tree's leaf order (`BoxTree::order`), not by polygon:
+/// a leaf's polygons then lie side by side in memory. The test is bound by memory, not
+/// arithmetic (perf put its hottest instructions on loads of boxes looked up by polygon), and a
+/// shot touches a few thousand of the scene's polygons, scattered over megabytes otherwise.
 #[derive(Clone, Debug, Default)]
 pub struct SeenReceivers {
     tree: BoxTree,
-    /// Per polygon: the box of its patches' positions, as the reconstruction pass reads them.
+    /// Per leaf-order index k (polygon `tree.order[k]`): the box of its patches' positions, as
+    /// the reconstruction pass reads them.
     boxes: Vec<(Vec3, Vec3)>,
-    /// Per polygon p, `blocks[block_starts[p]..block_starts[p + 1]]`: each atlas block holding
-    /// some of its patches, with the box of those.
+    /// Per leaf-order index k, `blocks[block_starts[k]..block_starts[k + 1]]`: each atlas block
+    /// holding some of the polygon's patches, with the box of those.
     blocks: Vec<(u32, Vec3, Vec3)>,
     block_starts: Vec<u32>,
     /// Per polygon: its plane, as the reconstruction pass reads it (`PolygonPlanes`), or `None`
@@ -102,6 +109,10 @@ pub struct Scratch {
     /// Per ID + 1 (0: nothing shown), what the polygon hides from this shot, for the IDs the
     /// item buffer shows (the others are never read).
     hiders: Vec<Hider>,
+    /// Per pixel of the five faces: the plane of what the pixel shows (`Hider::plane`), read
+    /// pixel by pixel rather than through the ID (one load in a small array, not two, the
+    /// second scattered over a table as long as the scene's polygons).
+    planes: Vec<Vec4>,
     /// Per pixel of the five faces (as the walk's item buffer): the distance from the shooter
     /// beyond which every ray through the pixel is hidden by what it shows (∞: none).
     depths: Vec<f32>,
@@ -153,13 +164,26 @@ impl SeenReceivers {
         let with_patches: Vec<u32> = (0..n as u32)
             .filter(|&p| block_starts[p as usize + 1] > block_starts[p as usize])
             .collect();
+        let tree = BoxTree::new(&boxes, with_patches, LEAF);
+        // Into leaf order.
+        let of = |p: u32| block_starts[p as usize] as usize..block_starts[p as usize + 1] as usize;
+        let leaf_boxes = tree.order.iter().map(|&p| boxes[p as usize]).collect();
+        let leaf_blocks = (tree.order.iter())
+            .flat_map(|&p| blocks[of(p)].iter().copied())
+            .collect();
+        let leaf_starts = std::iter::once(0)
+            .chain(tree.order.iter().scan(0, |end, &p| {
+                *end += of(p).len() as u32;
+                Some(*end)
+            }))
+            .collect();
         let (lo, hi) = scene.bounds();
         let largest = lo.abs().max(hi.abs()).max_element();
         SeenReceivers {
-            tree: BoxTree::new(&boxes, with_patches, LEAF),
-            boxes,
-            blocks,
-            block_starts,
+            tree,
+            boxes: leaf_boxes,
+            blocks: leaf_blocks,
+            block_starts: leaf_starts,
             planes,
             slack,
             // f32 rounds to 6e-8 of a value; a plane distance adds three products and an offset.
@@ -183,11 +207,15 @@ impl SeenReceivers {
         let turn = Mat3::from_mat4(views.view);
         self.hiders(&mut scratch.hiders, views, turn, ids);
         depths(&mut scratch.depths, views, ids, &scratch.hiders);
+        scratch.planes.clear();
+        (scratch.planes).extend(ids.iter().map(|&n| match scratch.hiders.get(n as usize) {
+            Some(hider) => hider.plane,
+            None => Hider::NOTHING.plane,
+        }));
         let shot = Shot {
             views,
             turn: abs(&turn),
-            ids,
-            hiders: &scratch.hiders,
+            planes: &scratch.planes,
             depths: &scratch.depths,
             noise: self.noise,
             margin: MARGIN_PIXELS * 2.0 / views.r as f32 + MARGIN_NDC,
@@ -203,13 +231,13 @@ impl SeenReceivers {
                 scratch.stack.extend([node.children, node.children + 1]);
                 continue;
             }
-            for &p in self.tree.polygons(node) {
-                let (lo, hi) = self.boxes[p as usize];
+            for k in node.start as usize..node.end as usize {
+                let (lo, hi) = self.boxes[k];
                 if shot.hidden(lo, hi) {
                     continue;
                 }
-                let p = p as usize;
-                let range = self.block_starts[p] as usize..self.block_starts[p + 1] as usize;
+                let p = self.tree.order[k] as usize;
+                let range = self.block_starts[k] as usize..self.block_starts[k + 1] as usize;
                 let blocks = &self.blocks[range];
                 if blocks.len() <= SMALL {
                     out.blocks.extend(blocks.iter().map(|&(b, _, _)| b));
@@ -317,10 +345,8 @@ struct Shot<'a> {
     /// The view's rotation with every entry made positive: it carries a box's half extents
     /// into eye space.
     turn: Mat3,
-    /// Per pixel of the five faces, the shown polygon's ID + 1 (0: none).
-    ids: &'a [u32],
-    /// Per ID + 1, what that polygon hides (`SeenReceivers::hiders`).
-    hiders: &'a [Hider],
+    /// Per pixel of the five faces, the plane of what it shows (`Scratch::planes`).
+    planes: &'a [Vec4],
     /// Per pixel, the distance beyond which it hides everything (`depths`).
     depths: &'a [f32],
     /// World units of float noise in a coordinate (`SeenReceivers::noise`).
@@ -356,12 +382,7 @@ impl Shot<'_> {
         if m >= 1.0 {
             return false;
         }
-        let hides = |at: usize| {
-            far > self.depths[at]
-                || (self.hiders)
-                    .get(self.ids[at] as usize)
-                    .is_some_and(|h| h.hides(centre, half))
-        };
+        let hides = |at: usize| far > self.depths[at] || hides(self.planes[at], centre, half);
         // The box in eye space.
         let eye = views.view.transform_point3(centre);
         // Most boxes that are not hidden show at their centre: look there first.
