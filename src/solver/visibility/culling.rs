@@ -291,8 +291,12 @@ impl Culling {
         plates: &Plates,
         res: i32,
     ) {
-        self.find_in_front(lists, shooter, view, plates);
-        if self.tuning.cull_hidden && self.kind == VisibilityKind::Hemicube {
+        let hidden = self.tuning.cull_hidden && self.kind == VisibilityKind::Hemicube;
+        let write = hidden && self.tuning.walk_item_buffers;
+        if !write {
+            self.find_in_front(lists, shooter, view, plates);
+        }
+        if hidden {
             let Lists {
                 occlusion,
                 in_front,
@@ -314,13 +318,11 @@ impl Culling {
                     rect.map(|x| x as usize)
                 }),
             };
-            let write = self.tuning.walk_item_buffers;
-            lists.hidden += self
-                .occluders
-                .retain_shown(occlusion, &views, self.near, self.far, in_front, write)
-                as u64;
             if write {
-                // The walk wrote the item buffer: no triangles to draw.
+                // The walk writes the item buffer: no triangles to draw.
+                let in_front = self.in_front(shooter, view, plates);
+                (self.occluders)
+                    .write_item_buffer(occlusion, &views, self.near, self.far, in_front);
                 item_bytes(occlusion.item_ids(), r, &mut lists.item_buffer);
                 let mut receivers = lists.receivers.take().unwrap_or_default();
                 lists.receivers = (!self.seen.is_empty()).then(|| {
@@ -332,6 +334,9 @@ impl Culling {
                 lists.views = [ViewDraw::default(); 5];
                 return;
             }
+            lists.hidden += (self.occluders)
+                .retain_shown(occlusion, &views, self.near, self.far, in_front)
+                as u64;
         }
         lists.item_buffer.clear();
         lists.receivers = None;
@@ -445,41 +450,83 @@ impl Culling {
     /// and the faces of solids turned away from a shooter outside them.
     fn find_in_front(&self, lists: &mut Lists, shooter: &Shooter, view: Mat4, plates: &Plates) {
         let s = shooter.position;
-        let solids = &self.solids;
         lists.outside.clear();
-        // Clear of the near plane too: geometry nearer than it is clipped away, and a clipped
-        // near face would show the far face behind it. On a face axis, depth ≥ distance / √3.
-        let margin = self.near * 3f32.sqrt();
-        let tuning = self.tuning;
-        lists.outside.extend(
-            // Only where projected straight edges are exact (the hemicube): the hemispherical
-            // projection drawn with straight edges lets a far face peek past the near ones.
-            (0..solids.count()).map(|k| {
-                tuning.cull_solids
-                    && self.kind == VisibilityKind::Hemicube
-                    && solids.clear_of(k, s, margin)
-            }),
-        );
+        let margin = self.solid_margin();
+        (lists.outside).extend((0..self.solids.count()).map(|k| self.clear_of_solid(k, s, margin)));
         lists.in_front.clear();
-        // The shooter's plate lies in the shooter's plane, which the near plane clips away (and
-        // the shaders put it beyond the far plane).
         let shooter_plate = plates.representative[shooter.polygon];
-        for (p, &(centre, radius)) in self.spheres.iter().enumerate() {
+        for p in 0..self.spheres.len() {
             if plates.representative[p] != p {
                 continue;
             }
-            let c = view.transform_point3(centre);
-            if tuning.cull_views && (p == shooter_plate || c.z >= radius) {
-                continue;
+            let outside = |k: usize| lists.outside[k];
+            if let Some(c) = self.in_front_of(p, shooter_plate, s, view, outside) {
+                lists.in_front.push((p, c, self.spheres[p].1));
             }
-            // A solid's face turned away from a shooter outside the solid hides nothing.
-            if let Some(k) = solids.solid_of[p] {
-                if lists.outside[k] && self.planes[p].distance(s) < -solids.slack {
-                    continue;
-                }
-            }
-            lists.in_front.push((p, c, radius));
         }
+    }
+
+    /// What [`find_in_front`](Self::find_in_front) lists, as a test of one polygon at a time
+    /// (each solid's side of the shooter found when asked), for the walk that writes the item
+    /// buffer and reaches only a small part of the scene (`Occluders::write_item_buffer`).
+    fn in_front<'a>(
+        &'a self,
+        shooter: &Shooter,
+        view: Mat4,
+        plates: &'a Plates,
+    ) -> impl Fn(usize) -> bool + 'a {
+        let s = shooter.position;
+        let margin = self.solid_margin();
+        let shooter_plate = plates.representative[shooter.polygon];
+        move |p| {
+            let outside = |k: usize| self.clear_of_solid(k, s, margin);
+            plates.representative[p] == p
+                && self
+                    .in_front_of(p, shooter_plate, s, view, outside)
+                    .is_some()
+        }
+    }
+
+    /// Clear of the near plane too: geometry nearer than it is clipped away, and a clipped near
+    /// face would show the far face behind it. On a face axis, depth ≥ distance / √3.
+    fn solid_margin(&self) -> f32 {
+        self.near * 3f32.sqrt()
+    }
+
+    /// Whether the shooter at `s` is clear of solid `k` (by `margin`), so that its far faces
+    /// may be left out: only where projected straight edges are exact (the hemicube; the
+    /// hemispherical projection drawn with straight edges lets a far face peek past the near
+    /// ones).
+    fn clear_of_solid(&self, k: usize, s: Vec3, margin: f32) -> bool {
+        self.tuning.cull_solids
+            && self.kind == VisibilityKind::Hemicube
+            && self.solids.clear_of(k, s, margin)
+    }
+
+    /// Plate representative `p`'s sphere centre in the eye space of `view` (shooter at `s`,
+    /// on plate `shooter_plate`) if any view may need it, `None` if it is left out: wholly
+    /// behind the shooter's plane, or the shooter's own plate (which lies in the shooter's
+    /// plane, which the near plane clips away, and the shaders put beyond the far plane), or a
+    /// face of a solid turned away from a shooter `outside` it.
+    fn in_front_of(
+        &self,
+        p: usize,
+        shooter_plate: usize,
+        s: Vec3,
+        view: Mat4,
+        outside: impl Fn(usize) -> bool,
+    ) -> Option<Vec3> {
+        let (centre, radius) = self.spheres[p];
+        let c = view.transform_point3(centre);
+        if self.tuning.cull_views && (p == shooter_plate || c.z >= radius) {
+            return None;
+        }
+        if let Some(k) = self.solids.solid_of[p] {
+            if self.planes[p].distance(s) < -self.solids.slack && outside(k) {
+                return None;
+            }
+        }
+        Some(c)
     }
 }
 

@@ -563,7 +563,9 @@ impl VisibilityPass {
     }
 
     /// How many polygons in front of a shooter were left out as hidden, over all passes
-    /// (`Tuning::cull_hidden`).
+    /// (`Tuning::cull_hidden`), where the views were drawn: a walk that writes the item buffer
+    /// (`Tuning::walk_item_buffers`) does not list the polygons in front of the shooter, so it
+    /// counts none.
     pub fn hidden(&self) -> u64 {
         self.culling.hidden
     }
