@@ -467,6 +467,42 @@ fn drawing_only_what_the_walk_reaches_gives_the_same_lightmaps() {
 }
 
 #[test]
+fn shading_shared_blocks_with_programs_for_just_their_shooters_gives_the_same_lightmaps() {
+    // With the walk's reach, the blocks that two to four shooters of a pass alone may reach are
+    // shaded by a program for just those shooters (`Tuning::few_shooter_programs`): every other
+    // shooter adds +0.0 there, so the sums are the same bit for bit.
+    let walk = |t: &mut Tuning| t.walk_item_buffers = true;
+    let off = |t: &mut Tuning| t.few_shooter_programs = false;
+    let mut few_blocks = 0;
+    on_both_rooms_from(walk, off, |name, mut few, mut all| {
+        for _ in 0..40 {
+            assert_eq!(step_both(name, &mut few, &mut all, 1), 0.0, "{name}");
+        }
+        let blocks = few.backend().reconstruction.few_shooter_blocks;
+        assert_eq!(all.backend().reconstruction.few_shooter_blocks, 0, "{name}");
+        eprintln!("{name}: {blocks} blocks shaded by few-shooter programs");
+        few_blocks += blocks;
+    });
+    assert!(few_blocks > 0, "no block of either room was");
+    // Lost Empire with the defaults (eight shooters a pass), where it pays.
+    let scene = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0]);
+    let layout = layout(&scene, 1.1782);
+    let ctx = context();
+    let solver = |tweak: fn(&mut Tuning)| {
+        let mut options = SolveOptions::accurate();
+        tweak(&mut options.tuning);
+        GpuSolver::new(&ctx, &scene, &layout, options).unwrap()
+    };
+    let (mut few, mut all) = (solver(|_| {}), solver(off));
+    for _ in 0..60 {
+        assert_eq!(step_both("Lost Empire", &mut few, &mut all, 1), 0.0);
+    }
+    let blocks = few.backend().reconstruction.few_shooter_blocks;
+    eprintln!("Lost Empire: {blocks} blocks shaded by few-shooter programs");
+    assert!(blocks > 1000, "{blocks} blocks shaded by few-shooter programs");
+}
+
+#[test]
 fn flushing_after_the_visibility_pass_changes_nothing() {
     let off = |t: &mut Tuning| t.flush_visibility = false;
     on_both_rooms(off, |name, mut flushed, mut queued| {

@@ -136,6 +136,15 @@ pub struct Tuning {
     /// on every patch of the atlas, two thirds of the pass (docs/perf-log.md). The receivers are
     /// a superset of those with a texel the shader finds visible: bit-identical.
     pub walk_receivers: bool,
+    /// Reconstruction (with `walk_receivers`, several shooters a pass and the marking pass): the
+    /// blocks that two to seven of the pass's shooters may reach are shaded, for the sets of
+    /// shooters that reach the most blocks, by a program compiled for just those shooters,
+    /// rather than by the one for every shooter of the pass. llvmpipe runs each shooter's
+    /// visibility test and form factor for every fragment whatever they decide, and on Lost
+    /// Empire most such blocks are reached by two or three of the eight: the eight-shooter
+    /// program spent most of its time on shooters that add exactly zero there
+    /// (docs/perf-log.md). Those shooters add +0.0, so the sums are the same bit for bit.
+    pub few_shooter_programs: bool,
     /// Visibility: a glFlush at the end of the pass, so that llvmpipe rasterises the item
     /// buffer while the CPU picks the receivers (otherwise it waits until the reconstruction
     /// binds the item buffer). Bit-identical.
@@ -171,6 +180,7 @@ impl Tuning {
             cull_hidden: true,
             walk_item_buffers: true,
             walk_receivers: true,
+            few_shooter_programs: true,
             flush_visibility: true,
             float_depth: true,
         }
@@ -200,6 +210,7 @@ impl Tuning {
             cull_hidden: false,
             walk_item_buffers: false,
             walk_receivers: false,
+            few_shooter_programs: false,
             flush_visibility: false,
             float_depth: true,
         }

@@ -87,7 +87,7 @@ impl Squares {
     /// Cover, one run after another, the blocks (`masks`: one per block, rows of `wide` blocks)
     /// whose mask has bit r, for each r below `runs`, as points when `points` asks and the driver
     /// allows, and upload them.
-    pub(super) fn build(&mut self, masks: &[u16], wide: usize, points: bool, runs: usize) {
+    pub(super) fn build(&mut self, masks: &[u32], wide: usize, points: bool, runs: usize) {
         self.as_points = points && self.points_fit;
         self.vertices.clear();
         self.runs.clear();
@@ -172,7 +172,7 @@ fn push_square(vertices: &mut Vec<f32>, points: bool, size: (i32, i32), x: u32, 
 struct Cover {
     /// Per level of squares (1, 2, 4, … blocks a side), per square: the OR and the AND of the
     /// masks of its blocks inside the grid.
-    pyramid: Vec<Vec<(u16, u16)>>,
+    pyramid: Vec<Vec<(u32, u32)>>,
     /// The grid's blocks across and up.
     wide: usize,
     high: usize,
@@ -184,7 +184,7 @@ impl Cover {
     /// `largest` texels: one pass over the blocks builds each square's OR and AND of masks, and
     /// every `squares` then only descends where its bit is set (a pass shooter by shooter
     /// covers eighteen sets of blocks).
-    fn pyramid(&mut self, masks: &[u16], wide: usize, largest: u32) {
+    fn pyramid(&mut self, masks: &[u32], wide: usize, largest: u32) {
         self.wide = wide;
         self.high = masks.len() / wide.max(1);
         let top = (largest / BLOCK).max(1).ilog2() as usize;
@@ -198,7 +198,7 @@ impl Cover {
             let (done, rest) = self.pyramid.split_at_mut(level);
             let (below, here) = (&done[level - 1], &mut rest[0]);
             here.clear();
-            here.resize(w * h, (0, u16::MAX));
+            here.resize(w * h, (0, u32::MAX));
             for y in 0..below_h {
                 for x in 0..below_w {
                     let (any, all) = below[y * below_w + x];
@@ -221,7 +221,7 @@ impl Cover {
     /// whole blocks, each block exactly once: `emit(x, y, side)` in texels. A square is split
     /// into its four quarters unless all of its blocks inside the grid have the bit.
     fn squares(&mut self, bit: usize, mut emit: impl FnMut(u32, u32, u32)) {
-        let Some(bit) = 1u16.checked_shl(bit as u32) else {
+        let Some(bit) = 1u32.checked_shl(bit as u32) else {
             return;
         };
         let top = self.pyramid.len() - 1;
@@ -263,12 +263,12 @@ mod tests {
         // the masks: a pseudo-random pattern with solid patches, so that squares of every size
         // appear, and two others.
         let (wide, high) = (37usize, 23usize);
-        let masks: Vec<u16> = (0..wide * high)
+        let masks: Vec<u32> = (0..wide * high)
             .map(|i| {
                 let (x, y) = (i % wide, i / wide);
-                ((x < 20 && y < 17 || (x * 7 + y * 13) % 5 < 2) as u16)
-                    | (((x * 7 + y * 13) % 5 < 2) as u16) << 1
-                    | ((x % 3 == 0) as u16) << 2
+                ((x < 20 && y < 17 || (x * 7 + y * 13) % 5 < 2) as u32)
+                    | (((x * 7 + y * 13) % 5 < 2) as u32) << 1
+                    | ((x % 3 == 0) as u32) << 2
             })
             .collect();
         let mut cover = Cover::default();
@@ -290,7 +290,7 @@ mod tests {
                 }
             });
             for (i, (&m, &n)) in masks.iter().zip(&drawn).enumerate() {
-                let set = (m >> bit & 1) as u32;
+                let set = m >> bit & 1;
                 assert_eq!(n, set, "bit {bit}, block {i}: set {set}, drawn {n} times");
             }
             if bit == 0 {

@@ -45,6 +45,14 @@ use programs::{Choices, Programs};
 use receivers::Receivers;
 use uniforms::{Uniforms, UNITS};
 
+/// How many runs of squares a pass can have: one bit of a block's mask each (`Squares::build`).
+const RUNS: usize = 32;
+
+/// The fewest shooter evaluations (blocks × shooters left out) for which a set of shooters gets a
+/// draw of its own with a few-shooter program (`Tuning::few_shooter_programs`): below, the
+/// draw's uniforms and state cost the main thread more than the rasteriser saves.
+const MIN_SAVED: u32 = 64;
+
 /// The two lightmap atlases of section 3.1: accumulated and unshot radiance (RGBA32F, alpha =
 /// polygon ID + 1). The reconstruction pass samples them; the copies after it replace them.
 pub struct Lightmaps {
@@ -165,6 +173,12 @@ pub struct ReconstructionPass {
     /// The polygons the last pass drew (receivers and the shooter): the only ones whose unshot
     /// energy it can have changed.
     pub touched: Vec<usize>,
+    /// The sets of shooters (bits) whose blocks the last pass shaded with a program for just
+    /// them (`Tuning::few_shooter_programs`), in the order of their runs.
+    few: Vec<u8>,
+    /// Blocks shaded so far by a program for fewer shooters than the pass's, several of them
+    /// (`Tuning::few_shooter_programs`).
+    pub few_shooter_blocks: u64,
     /// Passes drawn with the programs unrolled for quadrilateral shooters so far.
     pub quad_passes: u32,
     /// Passes drawn with the marking pass so far (`Tuning::marking_below` decides each).
@@ -207,6 +221,8 @@ impl ReconstructionPass {
             marks,
             by_shooter: None,
             touched: Vec::new(),
+            few: Vec::new(),
+            few_shooter_blocks: 0,
             quad_passes: 0,
             marked_passes: 0,
             lit: None,
@@ -259,26 +275,74 @@ impl ReconstructionPass {
         // The pass proper's runs as bits of a mask per block: 0 and 1 the blocks to shade with
         // the clipping shader and without; shooter by shooter, those only for the blocks several
         // shooters reach, and 2 + k those only shooter k reaches.
+        self.few.clear();
         let Some(count) = self.by_shooter else {
-            let runs: Vec<u16> = (flags.iter())
-                .map(|f| clipped(f) as u16 | (above(f) as u16) << 1)
+            let runs: Vec<u32> = (flags.iter())
+                .map(|f| clipped(f) as u32 | (above(f) as u32) << 1)
                 .collect();
             self.squares.build(&runs, wide, points, 2);
             return;
         };
         let bits = self.receivers.shooter_bits().expect("checked above");
-        let runs: Vec<u16> = (flags.iter().zip(bits))
+        // The sets of shooters whose blocks the few-shooter programs shade, each with a run
+        // after the shooters' own (blocks that need no clipping stay with the pass's program,
+        // which has the variant for them).
+        self.few = self.few_shooter_sets(flags, bits, &clipped);
+        let mut set_of = [0u8; 256];
+        for (j, &set) in self.few.iter().enumerate() {
+            set_of[set as usize] = j as u8 + 1;
+        }
+        let runs: Vec<u32> = (flags.iter().zip(bits))
             .map(|(f, &b)| match b.count_ones() {
                 0 => 0,
                 1 if *f != 0 => 1 << (2 + b.trailing_zeros()),
                 1 => 0,
-                _ => clipped(f) as u16 | (above(f) as u16) << 1,
+                _ => match set_of[b as usize] as usize {
+                    j if j > 0 && clipped(f) => 1 << (2 + count + j - 1),
+                    _ => clipped(f) as u32 | (above(f) as u32) << 1,
+                },
             })
             .collect();
+        self.few_shooter_blocks += (flags.iter().zip(bits))
+            .filter(|&(f, &b)| clipped(f) && set_of[b as usize] != 0)
+            .count() as u64;
         // The marks' runs are the shooters' own bits.
-        let marks: Vec<u16> = bits.iter().map(|&b| b as u16).collect();
-        self.squares.build(&runs, wide, points, 2 + count);
+        let marks: Vec<u32> = bits.iter().map(|&b| b as u32).collect();
+        self.squares
+            .build(&runs, wide, points, 2 + count + self.few.len());
         self.marks.build(&marks, wide, points, count);
+    }
+
+    /// The sets of shooters (bit k: shooter k of the pass) whose blocks a program for just them
+    /// shades (`Tuning::few_shooter_programs`): of the sets of two to `FEW` shooters that
+    /// alone reach some blocks to shade with clipping (`clipped`), those that save the most
+    /// shooter evaluations (blocks × shooters left out), as many as the cover's runs hold, none
+    /// that saves fewer than `MIN_SAVED`.
+    fn few_shooter_sets(
+        &self,
+        flags: &[u8],
+        bits: &[u8],
+        clipped: impl Fn(&u8) -> bool,
+    ) -> Vec<u8> {
+        let few = self.programs.few.len() as u32;
+        if few == 0 {
+            return Vec::new();
+        }
+        let slots = self.programs.shooters as u32;
+        let mut blocks = [0u32; 256];
+        for (f, &b) in flags.iter().zip(bits) {
+            if clipped(f) {
+                blocks[b as usize] += 1;
+            }
+        }
+        let mut sets: Vec<(u32, u8)> = (0..=255u8)
+            .filter(|b| (2..2 + few).contains(&b.count_ones()))
+            .map(|b| (blocks[b as usize] * (slots - b.count_ones()), b))
+            .filter(|&(saved, _)| saved >= MIN_SAVED)
+            .collect();
+        sets.sort_unstable_by(|a, b| b.cmp(a));
+        let room = RUNS - 2 - self.by_shooter.unwrap_or(0);
+        sets.iter().take(room).map(|&(_, b)| b).collect()
     }
 
     /// One reconstruction: for every patch drawn, its radiance and unshot radiance read from the
@@ -327,6 +391,7 @@ impl ReconstructionPass {
         if let Some(each) = &each {
             self.shade_alone(each, shooters, visibility, tuning.unroll_quads);
         }
+        self.shade_few(shooters, options, visibility, tuning.unroll_quads);
         self.end_squares(ctx);
         ctx.check(RECONSTRUCTION)
     }
@@ -494,6 +559,44 @@ impl ReconstructionPass {
             self.squares.draw(first, count);
         }
         visibility.slot_texture(0).bind(UNITS.item_buffers[0]);
+    }
+
+    /// The pass proper over the blocks each set of `self.few` (`select_receivers`) alone may
+    /// reach, by the program for that many shooters, given just those shooters' uniforms and
+    /// item buffers (in their order in the pass): the same sums, bit for bit, since every other
+    /// shooter adds exactly +0.0 there, as in `shade_alone`.
+    fn shade_few(
+        &self,
+        shooters: &[Shooter],
+        options: &SolveOptions,
+        visibility: &VisibilityPass,
+        unroll_quads: bool,
+    ) {
+        let base = 2 + self.by_shooter.unwrap_or(0);
+        for (j, &set) in self.few.iter().enumerate() {
+            let members: Vec<usize> = (0..shooters.len()).filter(|k| set >> k & 1 != 0).collect();
+            let programs = &self.programs.few[members.len() - 2];
+            let chosen: Vec<Shooter> = members.iter().map(|&k| shooters[k]).collect();
+            let quad = (unroll_quads && chosen.iter().all(|s| s.corner_count == 4)) as usize;
+            for (slot, &k) in members.iter().enumerate() {
+                visibility.slot_texture(k).bind(UNITS.item_buffers[slot]);
+            }
+            let (first, count) = self.squares.run(base + j);
+            if count > 0 {
+                Uniforms::new(&chosen, options, &self.planes).set(&programs.marked[quad]);
+                self.squares.draw(first, count);
+            }
+        }
+        // Each unit back to its own shooter's item buffer, as `bind_textures` left them.
+        if !self.few.is_empty() {
+            for (k, &unit) in UNITS.item_buffers[..self.programs.shooters]
+                .iter()
+                .enumerate()
+            {
+                let slot = if k < shooters.len() { k } else { 0 };
+                visibility.slot_texture(slot).bind(unit);
+            }
+        }
     }
 
     /// Undo `begin_squares` and `mark`'s state.

@@ -24,6 +24,10 @@ pub(super) struct Programs {
     /// The programs for one shooter, drawn for each shooter of a pass over the blocks only it
     /// may reach (`Tuning::walk_receivers`, with several shooters a pass and the marking pass).
     pub one: Option<OneShooter>,
+    /// The programs for two to [`FEW`] shooters, fewer than `shooters` (`few[k - 2]` for k),
+    /// drawn over the blocks that just those shooters of a pass may reach
+    /// (`Tuning::few_shooter_programs`); empty without.
+    pub few: Vec<FewShooters>,
     /// Writes each patch's emitted radiance (and its polygon ID in alpha) at initialisation.
     pub emission: Program,
 }
@@ -64,6 +68,20 @@ pub(super) struct OneShooter {
     /// The marking pass (`MARK`).
     pub marking: Program,
     /// The pass proper after it (`MARKED`), for any corner count and for quadrilaterals.
+    pub marked: [Program; 2],
+}
+
+/// The most shooters a few-shooter program serves (`Tuning::few_shooter_programs`). On Lost
+/// Empire nine in ten of the blocks that several of a pass's eight shooters reach are reached by
+/// two to four; programs for more would save little, and llvmpipe compiles each variant when
+/// first drawn (about 0.13 s each without its shader cache).
+pub(super) const FEW: u32 = 4;
+
+/// `glsl/reconstruct.frag` compiled for a few shooters (`SHOOTERS` 2 to [`FEW`]), for the blocks
+/// that just those shooters of a pass may reach (`Tuning::few_shooter_programs`): the pass
+/// proper after the marking pass, clipping the shooters to each receiver's plane, for any corner
+/// count and for quadrilaterals.
+pub(super) struct FewShooters {
     pub marked: [Program; 2],
 }
 
@@ -136,11 +154,24 @@ impl Programs {
         } else {
             None
         };
+        let few = if one.is_some() && tuning.few_shooter_programs {
+            (2..shooters.min(FEW + 1))
+                .map(|k| {
+                    let marked = || frag_for(k).define("MARKED", 1);
+                    Ok(FewShooters {
+                        marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
+                    })
+                })
+                .collect::<Result<_, GlError>>()?
+        } else {
+            Vec::new()
+        };
         Ok(Programs {
             for_slots,
             shooters: shooters as usize,
             compiled,
             one,
+            few,
             emission: Program::new(
                 gl,
                 glsl!("lightmap.vert"),
