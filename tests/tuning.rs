@@ -499,7 +499,10 @@ fn shading_shared_blocks_with_programs_for_just_their_shooters_gives_the_same_li
     }
     let blocks = few.backend().reconstruction.few_shooter_blocks;
     eprintln!("Lost Empire: {blocks} blocks shaded by few-shooter programs");
-    assert!(blocks > 1000, "{blocks} blocks shaded by few-shooter programs");
+    assert!(
+        blocks > 1000,
+        "{blocks} blocks shaded by few-shooter programs"
+    );
 }
 
 #[test]
