@@ -463,35 +463,47 @@ impl Views {
     /// around the box in eye space, then in each face's space (a face's rotation permutes the
     /// axes, so its box is exact there).
     pub(super) fn footprints(&self, lo: Vec3, hi: Vec3, tolerance: f32) -> [Option<Footprint>; 5] {
+        let eye = self.eye_box(lo, hi);
+        FACE_AXES.map(|axes| footprint(eye, axes, tolerance))
+    }
+
+    /// The box around the box (lower corner `lo`, upper `hi`) in eye space.
+    fn eye_box(&self, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
+        debug_assert_eq!(self.rotations, super::face_rotations());
         let rotation = Mat3::from_mat4(self.view);
         let centre = self.view.transform_point3(0.5 * (lo + hi));
         let half = abs(&rotation) * (0.5 * (hi - lo));
-        let (elo, ehi) = (centre - half, centre + half);
-        debug_assert_eq!(self.rotations, super::face_rotations());
-        FACE_AXES.map(|axes| {
-            // The box in the face's space: each face's rotation only permutes and negates the
-            // eye space's axes (`FACE_AXES`), so no products are needed.
-            let range = |(axis, sign): (usize, f32)| {
-                if sign > 0.0 {
-                    (elo[axis], ehi[axis])
-                } else {
-                    (-ehi[axis], -elo[axis])
-                }
-            };
-            let ((xlo, xhi), (ylo, yhi), (zlo, zhi)) =
-                (range(axes[0]), range(axes[1]), range(axes[2]));
-            // Depth along the face's axis: w = -z.
-            let (w_lo, w_hi) = (-zhi, -zlo);
-            if w_hi <= 0.0 {
-                return None;
-            }
-            // Clamped to the face, a range beyond an edge comes out reversed.
-            let (u0, u1) = tangent_range(xlo, xhi, w_lo, w_hi);
-            let (v0, v1) = tangent_range(ylo, yhi, w_lo, w_hi);
-            (u0 <= u1 + tolerance && v0 <= v1 + tolerance)
-                .then_some(((u0.min(u1), u0.max(u1)), (v0.min(v1), v0.max(v1))))
-        })
+        (centre - half, centre + half)
     }
+}
+
+/// One face's tangent ranges of the box `(elo, ehi)` in eye space (see `Views::footprints`);
+/// `axes`: the face's `FACE_AXES`.
+fn footprint(
+    (elo, ehi): (Vec3, Vec3),
+    axes: [(usize, f32); 3],
+    tolerance: f32,
+) -> Option<Footprint> {
+    // The box in the face's space: each face's rotation only permutes and negates the eye
+    // space's axes (`FACE_AXES`), so no products are needed.
+    let range = |(axis, sign): (usize, f32)| {
+        if sign > 0.0 {
+            (elo[axis], ehi[axis])
+        } else {
+            (-ehi[axis], -elo[axis])
+        }
+    };
+    let ((xlo, xhi), (ylo, yhi), (zlo, zhi)) = (range(axes[0]), range(axes[1]), range(axes[2]));
+    // Depth along the face's axis: w = -z.
+    let (w_lo, w_hi) = (-zhi, -zlo);
+    if w_hi <= 0.0 {
+        return None;
+    }
+    // Clamped to the face, a range beyond an edge comes out reversed.
+    let (u0, u1) = tangent_range(xlo, xhi, w_lo, w_hi);
+    let (v0, v1) = tangent_range(ylo, yhi, w_lo, w_hi);
+    (u0 <= u1 + tolerance && v0 <= v1 + tolerance)
+        .then_some(((u0.min(u1), u0.max(u1)), (v0.min(v1), v0.max(v1))))
 }
 
 /// Each hemicube face's rotation (`face_rotations`) as the eye-space axis and sign of the
@@ -557,8 +569,10 @@ impl Walk<'_> {
             return false;
         }
         let (r, m) = (v.r, v.margin());
-        for (k, reach) in v.footprints(lo, hi, 0.0).into_iter().enumerate() {
-            let Some(((u0, u1), (v0, v1))) = reach else {
+        // Face by face, so that a box seen in one face costs no other face's footprint.
+        let eye = v.eye_box(lo, hi);
+        for (k, &axes) in FACE_AXES.iter().enumerate() {
+            let Some(((u0, u1), (v0, v1))) = footprint(eye, axes, 0.0) else {
                 continue;
             };
             let ((i0, i1), (j0, j1)) = (v.pixels(u0, u1, m), v.pixels(v0, v1, m));
