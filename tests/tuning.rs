@@ -446,24 +446,17 @@ fn drawing_only_what_the_walk_reaches_gives_the_same_lightmaps() {
         eprintln!("{name}: texels drawn {fewer} (reached), {all} (every patch)");
         assert!(fewer < all, "{name}: nothing left out");
     });
-    // Lost Empire with the defaults (eight shooters a pass), where it pays.
-    let scene = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0]);
-    let layout = layout(&scene, 1.1782);
-    let ctx = context();
-    let solver = |tweak: fn(&mut Tuning)| {
-        let mut options = SolveOptions::accurate();
-        tweak(&mut options.tuning);
-        GpuSolver::new(&ctx, &scene, &layout, options).unwrap()
-    };
-    let (mut reached, mut every) = (solver(|_| {}), solver(|t| t.walk_receivers = false));
-    let (mut fewer, mut all) = (0, 0);
-    for _ in 0..60 {
-        assert_eq!(step_both("Lost Empire", &mut reached, &mut every, 1), 0.0);
-        fewer += reached.backend().reconstruction.texels_drawn();
-        all += every.backend().reconstruction.texels_drawn();
-    }
-    eprintln!("Lost Empire: texels drawn {fewer} (reached), {all} (every patch)");
-    assert!(fewer * 2 < all, "reached {fewer} of {all} texels");
+    // Lost Empire, where it pays.
+    on_lost_empire(off, |mut reached, mut every| {
+        let (mut fewer, mut all) = (0, 0);
+        for _ in 0..60 {
+            assert_eq!(step_both("Lost Empire", &mut reached, &mut every, 1), 0.0);
+            fewer += reached.backend().reconstruction.texels_drawn();
+            all += every.backend().reconstruction.texels_drawn();
+        }
+        eprintln!("Lost Empire: texels drawn {fewer} (reached), {all} (every patch)");
+        assert!(fewer * 2 < all, "reached {fewer} of {all} texels");
+    });
 }
 
 #[test]
@@ -484,25 +477,18 @@ fn shading_shared_blocks_with_programs_for_just_their_shooters_gives_the_same_li
         few_blocks += blocks;
     });
     assert!(few_blocks > 0, "no block of either room was");
-    // Lost Empire with the defaults (eight shooters a pass), where it pays.
-    let scene = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0]);
-    let layout = layout(&scene, 1.1782);
-    let ctx = context();
-    let solver = |tweak: fn(&mut Tuning)| {
-        let mut options = SolveOptions::accurate();
-        tweak(&mut options.tuning);
-        GpuSolver::new(&ctx, &scene, &layout, options).unwrap()
-    };
-    let (mut few, mut all) = (solver(|_| {}), solver(off));
-    for _ in 0..60 {
-        assert_eq!(step_both("Lost Empire", &mut few, &mut all, 1), 0.0);
-    }
-    let blocks = few.backend().reconstruction.few_shooter_blocks;
-    eprintln!("Lost Empire: {blocks} blocks shaded by few-shooter programs");
-    assert!(
-        blocks > 1000,
-        "{blocks} blocks shaded by few-shooter programs"
-    );
+    // Lost Empire, where it pays.
+    on_lost_empire(off, |mut few, mut all| {
+        for _ in 0..60 {
+            assert_eq!(step_both("Lost Empire", &mut few, &mut all, 1), 0.0);
+        }
+        let blocks = few.backend().reconstruction.few_shooter_blocks;
+        eprintln!("Lost Empire: {blocks} blocks shaded by few-shooter programs");
+        assert!(
+            blocks > 1000,
+            "{blocks} blocks shaded by few-shooter programs"
+        );
+    });
 }
 
 #[test]
@@ -558,6 +544,20 @@ fn on_both_rooms(
     check: impl FnMut(&str, GpuSolver<'_>, GpuSolver<'_>),
 ) {
     on_both_rooms_from(|_| {}, tweak, check)
+}
+
+/// Run `check` on two solvers of Lost Empire with the defaults (eight shooters a pass, the walk
+/// writing the item buffers), `tweak` applied to the second one's tuning.
+fn on_lost_empire(tweak: fn(&mut Tuning), check: impl FnOnce(GpuSolver<'_>, GpuSolver<'_>)) {
+    let scene = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0]);
+    let layout = layout(&scene, 1.1782);
+    let ctx = context();
+    let solver = |tweak: fn(&mut Tuning)| {
+        let mut options = SolveOptions::accurate();
+        tweak(&mut options.tuning);
+        GpuSolver::new(&ctx, &scene, &layout, options).unwrap()
+    };
+    check(solver(|_| {}), solver(tweak));
 }
 
 /// [`on_both_rooms`] with `base` applied to both solvers' tuning first.

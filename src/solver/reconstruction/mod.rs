@@ -274,7 +274,8 @@ impl ReconstructionPass {
         };
         // The pass proper's runs as bits of a mask per block: 0 and 1 the blocks to shade with
         // the clipping shader and without; shooter by shooter, those only for the blocks several
-        // shooters reach, and 2 + k those only shooter k reaches.
+        // shooters reach, 2 + k those only shooter k reaches, and 2 + count + j those only the
+        // shooters of set `few[j]` reach (`Tuning::few_shooter_programs`).
         self.few.clear();
         let Some(count) = self.by_shooter else {
             let runs: Vec<u32> = (flags.iter())
