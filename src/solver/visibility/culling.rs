@@ -451,8 +451,7 @@ impl Culling {
     fn find_in_front(&self, lists: &mut Lists, shooter: &Shooter, view: Mat4, plates: &Plates) {
         let s = shooter.position;
         lists.outside.clear();
-        let margin = self.solid_margin();
-        (lists.outside).extend((0..self.solids.count()).map(|k| self.clear_of_solid(k, s, margin)));
+        (lists.outside).extend((0..self.solids.count()).map(|k| self.clear_of_solid(k, s)));
         lists.in_front.clear();
         let shooter_plate = plates.representative[shooter.polygon];
         for p in 0..self.spheres.len() {
@@ -476,10 +475,9 @@ impl Culling {
         plates: &'a Plates,
     ) -> impl Fn(usize) -> bool + 'a {
         let s = shooter.position;
-        let margin = self.solid_margin();
         let shooter_plate = plates.representative[shooter.polygon];
         move |p| {
-            let outside = |k: usize| self.clear_of_solid(k, s, margin);
+            let outside = |k: usize| self.clear_of_solid(k, s);
             plates.representative[p] == p
                 && self
                     .in_front_of(p, shooter_plate, s, view, outside)
@@ -487,20 +485,15 @@ impl Culling {
         }
     }
 
-    /// Clear of the near plane too: geometry nearer than it is clipped away, and a clipped near
-    /// face would show the far face behind it. On a face axis, depth ≥ distance / √3.
-    fn solid_margin(&self) -> f32 {
-        self.near * 3f32.sqrt()
-    }
-
-    /// Whether the shooter at `s` is clear of solid `k` (by `margin`), so that its far faces
-    /// may be left out: only where projected straight edges are exact (the hemicube; the
-    /// hemispherical projection drawn with straight edges lets a far face peek past the near
-    /// ones).
-    fn clear_of_solid(&self, k: usize, s: Vec3, margin: f32) -> bool {
+    /// Whether the shooter at `s` is clear of solid `k`, so that its far faces may be left out:
+    /// only where projected straight edges are exact (the hemicube; the hemispherical projection
+    /// drawn with straight edges lets a far face peek past the near ones), and clear of the near
+    /// plane too (geometry nearer is clipped away, and a clipped near face would show the far
+    /// face behind it; on a face axis, depth ≥ distance / √3).
+    fn clear_of_solid(&self, k: usize, s: Vec3) -> bool {
         self.tuning.cull_solids
             && self.kind == VisibilityKind::Hemicube
-            && self.solids.clear_of(k, s, margin)
+            && self.solids.clear_of(k, s, self.near * 3f32.sqrt())
     }
 
     /// Plate representative `p`'s sphere centre in the eye space of `view` (shooter at `s`,

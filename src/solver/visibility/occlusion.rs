@@ -299,12 +299,6 @@ impl Occluders {
         far: f32,
         in_front: impl Fn(usize) -> bool,
     ) {
-        if self.tree.nodes.is_empty() {
-            views.clear(&mut scratch.cover);
-            scratch.ids.clear();
-            scratch.ids.resize(scratch.cover.len(), 0);
-            return;
-        }
         scratch.next_stamp(self.boxes.len(), self.rank.len());
         self.walk(scratch, views, near, far, true, |_, p| in_front(p));
     }
@@ -334,7 +328,10 @@ impl Occluders {
             far,
         };
         scratch.heap.clear();
-        let root = &self.tree.nodes[0];
+        // No polygon drawn: the buffers stay clear.
+        let Some(root) = self.tree.nodes.first() else {
+            return;
+        };
         scratch
             .heap
             .push((Reverse(walk.distance(root.lo, root.hi).to_bits()), 0));
@@ -479,23 +476,8 @@ impl Views {
 
 /// One face's tangent ranges of the box `(elo, ehi)` in eye space (see `Views::footprints`);
 /// `axes`: the face's `FACE_AXES`.
-fn footprint(
-    (elo, ehi): (Vec3, Vec3),
-    axes: [(usize, f32); 3],
-    tolerance: f32,
-) -> Option<Footprint> {
-    // The box in the face's space: each face's rotation only permutes and negates the eye
-    // space's axes (`FACE_AXES`), so no products are needed.
-    let range = |(axis, sign): (usize, f32)| {
-        if sign > 0.0 {
-            (elo[axis], ehi[axis])
-        } else {
-            (-ehi[axis], -elo[axis])
-        }
-    };
-    let ((xlo, xhi), (ylo, yhi), (zlo, zhi)) = (range(axes[0]), range(axes[1]), range(axes[2]));
-    // Depth along the face's axis: w = -z.
-    let (w_lo, w_hi) = (-zhi, -zlo);
+fn footprint(eye: (Vec3, Vec3), axes: [(usize, f32); 3], tolerance: f32) -> Option<Footprint> {
+    let ((xlo, xhi), (ylo, yhi), (w_lo, w_hi)) = face_box(eye, axes);
     if w_hi <= 0.0 {
         return None;
     }
@@ -504,6 +486,24 @@ fn footprint(
     let (v0, v1) = tangent_range(ylo, yhi, w_lo, w_hi);
     (u0 <= u1 + tolerance && v0 <= v1 + tolerance)
         .then_some(((u0.min(u1), u0.max(u1)), (v0.min(v1), v0.max(v1))))
+}
+
+/// The box `(elo, ehi)` in eye space as ranges in the space of the face whose `FACE_AXES` are
+/// `axes`: across (x), up (y), and depth along the face's axis (w = −z). Each face's rotation
+/// only permutes and negates the eye space's axes, so no products are needed.
+pub(super) fn face_box(
+    (elo, ehi): (Vec3, Vec3),
+    axes: [(usize, f32); 3],
+) -> ((f32, f32), (f32, f32), (f32, f32)) {
+    let range = |(axis, sign): (usize, f32)| {
+        if sign > 0.0 {
+            (elo[axis], ehi[axis])
+        } else {
+            (-ehi[axis], -elo[axis])
+        }
+    };
+    let (zlo, zhi) = range(axes[2]);
+    (range(axes[0]), range(axes[1]), (-zhi, -zlo))
 }
 
 /// Each hemicube face's rotation (`face_rotations`) as the eye-space axis and sign of the

@@ -26,7 +26,7 @@
 //! discarded, or the pass proper written unchanged.
 
 use super::box_tree::BoxTree;
-use super::occlusion::{abs, floor, Views, BEHIND, FACE_AXES};
+use super::occlusion::{abs, face_box, floor, Views, BEHIND, FACE_AXES};
 use crate::geometry::Plane;
 use crate::scene::Scene;
 use glam::{Mat3, Vec3, Vec4};
@@ -393,18 +393,8 @@ impl Shot<'_> {
         }
         let extent = self.turn * half;
         let (elo, ehi) = (eye - extent, eye + extent);
-        for (k, axes) in FACE_AXES.iter().enumerate() {
-            // The box in the face's space (a signed permutation of eye space).
-            let range = |(axis, sign): (usize, f32)| {
-                if sign > 0.0 {
-                    (elo[axis], ehi[axis])
-                } else {
-                    (-ehi[axis], -elo[axis])
-                }
-            };
-            let (x, y, (zlo, zhi)) = (range(axes[0]), range(axes[1]), range(axes[2]));
-            // Depth along the face's axis: w = -z.
-            let (w_lo, w_hi) = (-zhi, -zlo);
+        for (k, &axes) in FACE_AXES.iter().enumerate() {
+            let (x, y, (w_lo, w_hi)) = face_box((elo, ehi), axes);
             // Beyond the face's side planes (|x|, |y| ≤ w, widened by the margin): no division.
             let edge = w_hi * (1.0 + m);
             if w_hi <= 0.0 || x.0 > edge || x.1 < -edge || y.0 > edge || y.1 < -edge {
