@@ -226,6 +226,12 @@ fn scaling_times_the_whole_polygons_configuration_when_asked() {
 /// conference room take minutes, and speed is the bench's to measure).
 #[test]
 fn scenes_reports_each_third_party_scene_solved_with_the_default() {
+    let (Some(_), Some(_)) = (
+        common::third_party("cornell-box/CornellBox-Original.obj"),
+        common::third_party("tinyobjloader-cornell-box/cornell_box.obj"),
+    ) else {
+        return;
+    };
     let dir = tempfile::tempdir().unwrap();
     let json = dir.path().join("scenes.json");
     let stdout = run_ok([
@@ -277,6 +283,26 @@ fn scenes_reports_each_third_party_scene_solved_with_the_default() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
         stderr.contains("no third-party scene 'sponza'") && stderr.contains("lost-empire-100k"),
+        "{stderr}"
+    );
+}
+
+/// A third-party scene that is not in the folder `RADIOSITY_SCENES` names is one clear error:
+/// the file, the folder, and where the scene is published.
+#[test]
+fn scenes_names_a_missing_scene_and_where_it_is_published() {
+    let empty = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args(["bench", "scenes", "--scenes", "lost-empire"])
+        .env("RADIOSITY_SCENES", empty.path())
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("lost-empire/lost_empire.obj")
+            && stderr.contains(&empty.path().display().to_string())
+            && stderr.contains("lost_empire.zip"),
         "{stderr}"
     );
 }

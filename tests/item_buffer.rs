@@ -505,7 +505,10 @@ fn hidden_polygons_left_out(
 fn leaving_out_hidden_polygons_changes_only_pixels_of_polygons_seen_edge_on() {
     // Lost Empire, where it pays: a small shot shows about 200 of the 17,000 polygons in front
     // of it (docs/perf-log.md, 2026-12-06, seventh session).
-    let scene = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0]);
+    let Some(scene) = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0])
+    else {
+        return;
+    };
     let (shots, pixels, differ, hidden) =
         hidden_polygons_left_out(&scene, 1.1782, &[16, 19, 23, 64]);
     println!("Lost Empire: {shots} shots, {differ} of {pixels} pixels differ, {hidden} left out");
@@ -592,7 +595,10 @@ fn the_walk_writes_what_the_views_draw() {
     // Table 1 room. The walk records the nearest polygon at every pixel centre; the GPU draws
     // them. They part only where a centre lies on an edge (the GPU's fill rule gives it to one
     // side, the walk to the nearer or the first polygon) or two polygons tie in depth.
-    let scene = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0]);
+    let Some(scene) = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0])
+    else {
+        return;
+    };
     let (shots, pixels, differ) = walked_against_drawn(&scene, 1.1782, &[16, 19, 23, 64]);
     println!("Lost Empire: {shots} shots, {differ} of {pixels} pixels differ");
     assert!(

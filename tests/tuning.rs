@@ -549,7 +549,10 @@ fn on_both_rooms(
 /// Run `check` on two solvers of Lost Empire with the defaults (eight shooters a pass, the walk
 /// writing the item buffers), `tweak` applied to the second one's tuning.
 fn on_lost_empire(tweak: fn(&mut Tuning), check: impl FnOnce(GpuSolver<'_>, GpuSolver<'_>)) {
-    let scene = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0]);
+    let Some(scene) = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0])
+    else {
+        return;
+    };
     let layout = layout(&scene, 1.1782);
     let ctx = context();
     let solver = |tweak: fn(&mut Tuning)| {

@@ -14,6 +14,7 @@ mod mtl;
 mod obj;
 mod overlap;
 mod statements;
+pub mod third_party;
 mod triangulate;
 
 pub use emission::{Emission, LoadOptions};

@@ -196,27 +196,39 @@ pub fn write_tiled_room(dir: &std::path::Path, tiles: usize) -> PathBuf {
     dir.join("room.obj")
 }
 
-/// A scene of `scenes/third_party/` (`path` below it).
-pub fn third_party(path: &str) -> PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes/third_party")
-        .join(path)
+/// A third-party scene file (`path` below the folder of `gpu_radiosity::scene::third_party`), or
+/// `None` when it is absent: the test that needs it then says which file and where it is
+/// published, and returns (skips). With `RADIOSITY_REQUIRE_SCENES` set (`.ci/run` sets it) an
+/// absent scene fails the test instead, so that CI never skips one silently.
+pub fn third_party(path: &str) -> Option<PathBuf> {
+    match gpu_radiosity::scene::third_party::find(path) {
+        Ok(found) => Some(found),
+        Err(message) if std::env::var_os("RADIOSITY_REQUIRE_SCENES").is_some() => {
+            panic!("{message}")
+        }
+        Err(message) => {
+            eprintln!("SKIPPED: {message}");
+            None
+        }
+    }
 }
 
-/// A third-party scene with `material` made an emitter of radiance `ke` (`--emit`).
-pub fn third_party_lit(path: &str, material: &str, ke: [f32; 3]) -> Scene {
+/// A third-party scene with `material` made an emitter of radiance `ke` (`--emit`), or `None`
+/// when the file is absent (see [`third_party`]).
+pub fn third_party_lit(path: &str, material: &str, ke: [f32; 3]) -> Option<Scene> {
     let emit = vec![gpu_radiosity::scene::Emission {
         material: material.into(),
         ke,
     }];
-    gpu_radiosity::scene::load_obj_with(
-        &third_party(path),
+    let scene = gpu_radiosity::scene::load_obj_with(
+        &third_party(path)?,
         &gpu_radiosity::scene::LoadOptions {
             emit,
             ..Default::default()
         },
     )
-    .unwrap()
+    .unwrap();
+    Some(scene)
 }
 
 /// Shooting points spread over `scene`: every `n / count`-th polygon, from the centres of its first

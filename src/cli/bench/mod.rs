@@ -7,7 +7,7 @@
 //!   path-traced reference (`validate::path_traced`).
 //! - `scaling` (`scaling.rs`): seconds, shots and peak memory against the patch count, both
 //!   solvers, with a log-log plot.
-//! - `scenes` (`scenes.rs`): the third-party scenes of `scenes/third_party/`, each solved with
+//! - `scenes` (`scenes.rs`): the third-party scenes (`scene::third_party`), each solved with
 //!   the default to the stopping rule: counts, shots, loop seconds, peak memory.
 //!
 //! The configurations they time are the solver's (`solver::options`): `SolveOptions::paper_faithful`

@@ -1,4 +1,4 @@
-//! `radiosity bench scenes`: each third-party scene of `scenes/third_party/` solved with the
+//! `radiosity bench scenes`: each third-party scene (found by `scene::third_party`) solved with the
 //! default settings to the stopping rule (`--threshold`, 1 % here), one child `radiosity solve`
 //! per scene (so that each peak memory is its own): faces, polygons after merging, patches,
 //! shots, passes, loop seconds, unshot power at the end and peak memory. Lights a file does not
@@ -7,9 +7,9 @@
 
 use super::BenchArgs;
 use anyhow::{Context, Result};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-/// A third-party scene: its name, its OBJ under `scenes/third_party/`, the `--emit` it needs,
+/// A third-party scene: its name, its OBJ below the third-party folder, the `--emit` it needs,
 /// any other arguments of its solve, and the speed target it is held to, if any.
 struct ThirdParty {
     name: &'static str,
@@ -130,19 +130,6 @@ struct Row {
     target_met: Option<bool>,
 }
 
-/// `scenes/third_party/` of the working directory's checkout, or of the one this program was
-/// built from.
-fn third_party_dir() -> Result<PathBuf> {
-    let here = Path::new("scenes/third_party");
-    let built = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/third_party");
-    [here.to_path_buf(), built]
-        .into_iter()
-        .find(|d| d.is_dir())
-        .context(
-            "no scenes/third_party/ here nor where this program was built: run it in a checkout",
-        )
-}
-
 /// Which scenes `--scenes` names (all of them unless it names third-party ones).
 fn chosen(args: &BenchArgs) -> Result<Vec<&'static ThirdParty>> {
     let named: Vec<&String> = args
@@ -170,7 +157,6 @@ fn chosen(args: &BenchArgs) -> Result<Vec<&'static ThirdParty>> {
 /// Run the benchmark: one solve per scene, a Markdown table, and `--json`.
 pub fn run(args: &BenchArgs) -> Result<()> {
     use clap::ValueEnum;
-    let dir = third_party_dir()?;
     let scratch = tempfile_dir()?;
     let backend = args.backend.to_possible_value().context("a backend name")?;
     outln!("| scene | faces | polygons | patches | clustered | shots | passes | loop s | unshot | peak MiB | target |");
@@ -178,7 +164,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let mut rows = Vec::new();
     for scene in chosen(args)? {
         let out = scratch.join(scene.name);
-        let obj = dir.join(scene.obj);
+        let obj = crate::scene::third_party::find(scene.obj).map_err(anyhow::Error::msg)?;
         let mut command: Vec<String> = vec!["solve".into(), obj.display().to_string()];
         if let Some(emit) = scene.emit {
             command.extend(["--emit".into(), emit.into()]);
