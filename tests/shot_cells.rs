@@ -190,3 +190,26 @@ fn a_shot_is_cut_by_what_it_carries_not_by_what_its_polygon_holds() {
     assert!(small.len() <= coarse as usize, "{}", small.len());
     assert!(large.len() > ordinary as usize, "{}", large.len());
 }
+
+/// The cap changes no shipped scene's shots: at their own resolution, no polygon of the
+/// Table 1 rooms or the golden scenes has more cells than its scene's cap, as an emitter
+/// (the accurate mode's cells of one patch) or as a shooter (four).
+#[test]
+fn no_shipped_scene_reaches_the_cap() {
+    for scene in &gpu_radiosity::scene::bundled::ALL {
+        let loaded = scene.load().unwrap();
+        let layout = pipeline::lay_out(&loaded, None, None).unwrap();
+        let cap = max_cells(&loaded, gpu_radiosity::solver::SHOT_TRIANGLES);
+        assert!(cap >= 1_000, "{}: {cap}", scene.name);
+        for (p, lm) in layout.lightmaps.iter().enumerate() {
+            let emitter = loaded.material(&loaded.polygons[p]).is_emitter();
+            let cell = if emitter { 1 } else { 4 };
+            assert_eq!(
+                gpu_radiosity::solver::shooters::widened_cell(lm.w, lm.h, cell, cap),
+                cell,
+                "{}: {p}",
+                scene.name
+            );
+        }
+    }
+}

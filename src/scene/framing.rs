@@ -16,8 +16,8 @@
 //!   mostly backs of polygons (a box open on one side seen from behind), from the direction
 //!   among 24 (8 around, 3 heights) whose picture shows the largest share of fronts.
 
+use super::bvh::Bvh;
 use super::{Camera, Scene};
-use crate::solver::cpu::visibility::Bvh;
 use glam::Vec3;
 
 /// Rays cast in all directions from a candidate eye.

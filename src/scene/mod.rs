@@ -2,6 +2,7 @@
 //! Lambertian materials (`Kd` reflectance, `Ke` emitted radiance) and an optional camera.
 
 pub mod bundled;
+pub mod bvh;
 mod emission;
 mod error;
 mod files;

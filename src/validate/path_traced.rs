@@ -5,7 +5,7 @@
 //! Russian roulette ends a path with the probability its throughput has lost (at least 5 %).
 //! Emission is only counted through the light's direct term, so the radiance found is a
 //! receiver's. It shares nothing with the radiosity solvers but the scene and the ray casting
-//! (`solver::cpu::visibility::Bvh`), so it can judge both.
+//! (`scene::bvh::Bvh`), so it can judge both.
 //!
 //! [`Reference::new`] gives each polygon's mean radiance over its patch centres with the relative
 //! standard error of that mean (eight independent batches); [`compare`] sets a radiosity atlas
@@ -15,8 +15,8 @@
 
 use crate::patches::PatchLayout;
 use crate::random::Rng;
+use crate::scene::bvh::Bvh;
 use crate::scene::Scene;
-use crate::solver::cpu::visibility::Bvh;
 use glam::Vec3;
 use rayon::prelude::*;
 use std::f32::consts::PI;

@@ -5,16 +5,15 @@
 //! the result is bit-identical for every thread count.
 
 pub mod reconstruction;
-pub mod visibility;
 
 use super::progressive::{Backend, Solver};
 use super::{Shooter, SolveError, SolveOptions};
 use crate::patches::PatchLayout;
+use crate::scene::bvh::Bvh;
 use crate::scene::Scene;
 use glam::Vec3;
 use rayon::prelude::*;
 use reconstruction::Receiver;
-use visibility::Bvh;
 
 /// Progressive refinement on the CPU.
 pub type CpuSolver<'a> = Solver<'a, CpuBackend<'a>>;

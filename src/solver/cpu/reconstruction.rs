@@ -1,7 +1,7 @@
 //! The CPU twin of the reconstruction pass: ΔL for every patch from one shooter, with the same
 //! form factors as `glsl/reconstruct.frag` (`solver::form_factor`) and exact visibility.
 
-use super::visibility::Bvh;
+use crate::scene::bvh::Bvh;
 use crate::solver::{form_factor, FormFactorKind, Shooter};
 use glam::Vec3;
 

@@ -1,8 +1,10 @@
-//! Visibility on the CPU: exact shadow rays against a bounding volume hierarchy of the scene's
-//! triangles (the CPU twin of the visibility pass). Exact rather than a software item buffer, so
-//! the CPU solver is also an independent reference for the GPU's sampled visibility.
+//! A bounding volume hierarchy of the scene's triangles, for exact ray queries: the CPU solver's
+//! shadow rays (its twin of the visibility pass; exact rather than a software item buffer, so the
+//! CPU solver is an independent reference for the GPU's sampled visibility), the path tracer's
+//! rays and the default camera's look at the scene. In `scene` because all three read it and the
+//! scene is below them all.
 
-use crate::scene::{triangulate, Scene};
+use super::{triangulate, Scene};
 use glam::Vec3;
 
 #[derive(Clone, Copy)]
