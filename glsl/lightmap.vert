@@ -1,7 +1,8 @@
 #version 130
-// Reconstruction pass, vertex stage (paper 3.2.2): every receiver polygon is drawn
-// orthographically onto its own lightmap texels in the atlas, so that each fragment is one patch.
-// The world position and normal go on to the fragment stage for the form factor.
+// Every polygon drawn orthographically onto its own lightmap texels in the atlas, so that each
+// fragment is one patch (paper 3.2.2, step 3). Drawn twice, at set-up: with glsl/patchdata.frag
+// it records each patch's position, normal and reflectance, which the reconstruction pass then
+// reads (glsl/atlas.vert draws that pass); with glsl/emission.frag it writes the initial emission.
 
 in vec3 Position;
 in vec3 Normal;

@@ -1,5 +1,5 @@
 //! What a reconstruction pass draws: aligned squares of whole 4×4 texel blocks covering the
-//! blocks it needs (found on a summed-area table of the blocks, `Cover`), as points or triangle
+//! blocks it needs (found on a pyramid of block masks, `Cover::pyramid`), as points or triangle
 //! pairs (`Squares`).
 //!
 //! Why squares and not the receivers' rectangles: a rectangle is two triangles, and llvmpipe
