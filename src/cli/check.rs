@@ -165,7 +165,9 @@ fn run_child(args: &CheckArgs, driver: Driver, cases: &[&golden::Case]) -> Resul
     }
     // Write the report after each case, so a crash in a later case keeps the earlier results.
     for case in cases {
-        let outcome = golden::check(&ctx, &[case], &references(args), &args.diff_dir, false);
+        // Twice: a driver may differ from the references within the tolerances, never from
+        // itself (`golden::Rerun`).
+        let outcome = golden::check_twice(&ctx, &[case], &references(args), &args.diff_dir);
         match outcome {
             Ok(mut o) => run.outcomes.append(&mut o),
             Err(e) => {
@@ -208,22 +210,30 @@ fn run_matrix(
 
 fn print_rows(runs: &[DriverRun]) {
     outln!(
-        "{:<9} {:<17} {:>8} {:>8} {:>10} {:>9} {:>6}  result",
+        "{:<9} {:<17} {:>8} {:>8} {:>10} {:>9} {:>6} {:>8}  result",
         "driver",
         "case",
         "RMS %",
         "plain %",
         "outliers %",
         "differ %",
-        "s"
+        "s",
+        "again"
     );
     for run in runs {
         match run.status {
             Status::Ran | Status::Crashed => {
                 for o in &run.outcomes {
                     let c = &o.comparison;
+                    // The second render: "same" bit for bit, else the share of values that
+                    // differ; "-" when the case ran once.
+                    let again = match &o.rerun {
+                        None => "-".to_string(),
+                        Some(r) if r.differing == 0.0 => "same".to_string(),
+                        Some(r) => format!("{:.3}%", 100.0 * r.differing),
+                    };
                     outln!(
-                        "{:<9} {:<17} {:>8.4} {:>8.4} {:>10.3} {:>9.3} {:>6.1}  {}",
+                        "{:<9} {:<17} {:>8.4} {:>8.4} {:>10.3} {:>9.3} {:>6.1} {:>8}  {}",
                         run.driver.name(),
                         c.case,
                         100.0 * c.rms,
@@ -231,6 +241,7 @@ fn print_rows(runs: &[DriverRun]) {
                         100.0 * c.outliers,
                         100.0 * c.differing,
                         o.seconds,
+                        again,
                         if c.pass { "pass" } else { "FAIL" }
                     );
                 }

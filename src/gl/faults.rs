@@ -7,7 +7,12 @@
 //!   texture (as if glCopyTexSubImage2D did nothing).
 //! - `swap-id-bytes`: the item buffer gets each ID with its red and blue bytes swapped (as if a
 //!   driver stored RGBA8 as BGRA8).
+//! - `stale-upload-on-rerun`: while the driver matrix renders a case the second time
+//!   (`golden::check_twice`), the second texture upload is dropped, so that the pass after it
+//!   samples the texture as it was (as Mesa 25's threaded context let zink's draws sample an
+//!   upload out of order, issue 60): the first render stays right, the second differs.
 
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
 /// A fault `RADIOSITY_FAULT` can plant (see the module's list).
@@ -17,6 +22,8 @@ pub enum Fault {
     SkipAccumulationCopy,
     /// `swap-id-bytes`: the item buffer's IDs with red and blue swapped.
     SwapIdBytes,
+    /// `stale-upload-on-rerun`: the second texture upload of a case's second render dropped.
+    StaleUploadOnRerun,
 }
 
 impl Fault {
@@ -24,6 +31,7 @@ impl Fault {
         match self {
             Fault::SkipAccumulationCopy => "skip-accumulation-copy",
             Fault::SwapIdBytes => "swap-id-bytes",
+            Fault::StaleUploadOnRerun => "stale-upload-on-rerun",
         }
     }
 }
@@ -34,6 +42,22 @@ pub fn active(fault: Fault) -> bool {
     LIST.get_or_init(|| std::env::var("RADIOSITY_FAULT").unwrap_or_default())
         .split(',')
         .any(|name| name.trim() == fault.name())
+}
+
+static RERUN: AtomicBool = AtomicBool::new(false);
+static RERUN_UPLOADS: AtomicUsize = AtomicUsize::new(0);
+
+/// Mark the start (`true`) or end of a case's second render (`golden::check_twice`).
+pub fn rerun(on: bool) {
+    RERUN_UPLOADS.store(0, Ordering::Relaxed);
+    RERUN.store(on, Ordering::Relaxed);
+}
+
+/// Whether `stale-upload-on-rerun` drops the texture upload about to be made.
+pub fn drops_upload() -> bool {
+    active(Fault::StaleUploadOnRerun)
+        && RERUN.load(Ordering::Relaxed)
+        && RERUN_UPLOADS.fetch_add(1, Ordering::Relaxed) == 1
 }
 
 /// The item-ID encoding (glsl/item_id.glsl) as the visibility shaders get it.

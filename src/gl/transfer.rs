@@ -124,6 +124,9 @@ pub enum TransferError {
         /// The bytes the buffer holds.
         len: usize,
     },
+    /// GL could not make the buffer object an upload goes through.
+    #[error("no buffer object for a texture upload: {0}")]
+    Buffer(String),
 }
 
 /// The bytes GL touches, from the buffer's start, to transfer a `width` x `height` image of
@@ -319,8 +322,20 @@ pub fn tex_sub_image_2d(
     data: &[u8],
 ) -> Result<(), TransferError> {
     check(width, height, format, ty, data.len())?;
+    if super::faults::drops_upload() {
+        return Ok(());
+    }
     unpack_defaults(gl);
+    // From a pixel unpack buffer, not client memory: Mesa 24+'s threaded context may write a
+    // client-memory upload straight into the texture from the calling thread when it judges the
+    // texture idle, and it judges a texture that queued draws still sample (bound in an earlier
+    // batch) idle. Zink over lavapipe then let the last reconstruction pass's draws read the
+    // next shot's item buffer (issue 60, docs/drivers.md). An upload from a buffer object is
+    // queued behind those draws, as GL orders it.
     unsafe {
+        let buffer = gl.create_buffer().map_err(TransferError::Buffer)?;
+        gl.bind_buffer(glow::PIXEL_UNPACK_BUFFER, Some(buffer));
+        gl.buffer_data_u8_slice(glow::PIXEL_UNPACK_BUFFER, data, glow::STREAM_DRAW);
         gl.tex_sub_image_2d(
             glow::TEXTURE_2D,
             0,
@@ -330,8 +345,10 @@ pub fn tex_sub_image_2d(
             height,
             format.gl(),
             ty.gl(),
-            glow::PixelUnpackData::Slice(Some(data)),
+            glow::PixelUnpackData::BufferOffset(0),
         );
+        gl.bind_buffer(glow::PIXEL_UNPACK_BUFFER, None);
+        gl.delete_buffer(buffer);
     }
     Ok(())
 }

@@ -6,7 +6,8 @@
 //!
 //! On one driver the pictures are bit-identical run after run (the solve is deterministic); the
 //! tolerances (`compare.rs`) leave room for another driver's rounding and edge rules, not for a
-//! changed algorithm.
+//! changed algorithm. The driver matrix renders each case twice and requires the two renders to
+//! be bit-identical ([`check_twice`]).
 
 pub mod cases;
 pub mod compare;
@@ -17,7 +18,7 @@ pub use cases::{Case, Picture, CASES, SIZE};
 pub use compare::{compare, Comparison, Metric, OUTLIER_TOLERANCE, RMS_TOLERANCE};
 
 use crate::display::{self, Image};
-use crate::gl::GlContext;
+use crate::gl::{faults, GlContext};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
 use std::time::Instant;
@@ -97,11 +98,58 @@ pub fn select(names: &[String]) -> Result<Vec<&'static Case>> {
 /// One case's outcome and how long it took.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Outcome {
-    /// The case compared with its reference.
+    /// The case compared with its reference (the first render, when it ran twice).
     #[serde(flatten)]
     pub comparison: Comparison,
-    /// Seconds the case took.
+    /// Seconds the case took (the first render).
     pub seconds: f64,
+    /// The second render, when the case ran twice ([`check_twice`]).
+    #[serde(default)]
+    pub rerun: Option<Rerun>,
+}
+
+/// A case rendered a second time in the same process, against its first render.
+///
+/// "Differ" is bitwise: the two renders make the same GL calls on the same driver from the
+/// same inputs, so every value must have the same bits (as it has on every driver here, run
+/// after run). A driver may differ from the references within the tolerances, but never from
+/// itself: a difference means the answer depends on timing (a race in the driver, or the
+/// program relying on something GL does not promise), which the tolerances could hide.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct Rerun {
+    /// Fraction of the picture's values (pixels' channels) whose bits differ from the first
+    /// render's.
+    pub differing: f64,
+    /// The largest absolute difference between the two (infinite where one is not a number).
+    pub largest: f64,
+    /// Seconds the second render took.
+    pub seconds: f64,
+}
+
+impl Rerun {
+    /// `second` against `first`, rendered in `seconds`.
+    pub fn of(first: &[f32], second: &[f32], seconds: f64) -> Rerun {
+        if first.len() != second.len() {
+            return Rerun {
+                differing: 1.0,
+                largest: f64::INFINITY,
+                seconds,
+            };
+        }
+        let (mut differing, mut largest) = (0usize, 0.0f64);
+        for (&a, &b) in first.iter().zip(second) {
+            if a.to_bits() != b.to_bits() {
+                differing += 1;
+                let d = (a as f64 - b as f64).abs();
+                largest = largest.max(if d.is_nan() { f64::INFINITY } else { d });
+            }
+        }
+        Rerun {
+            differing: differing as f64 / first.len().max(1) as f64,
+            largest,
+            seconds,
+        }
+    }
 }
 
 /// Run each case and compare it with its reference. Where a picture is not bit-identical, write
@@ -114,6 +162,28 @@ pub fn check(
     references: &References,
     diff_dir: &Path,
     update: bool,
+) -> Result<Vec<Outcome>> {
+    check_runs(ctx, cases, references, diff_dir, update, false)
+}
+
+/// [`check`], each case rendered twice: the first render is compared with the reference, the
+/// second with the first, bit for bit ([`Rerun`]); a case whose renders differ fails.
+pub fn check_twice(
+    ctx: &GlContext,
+    cases: &[&Case],
+    references: &References,
+    diff_dir: &Path,
+) -> Result<Vec<Outcome>> {
+    check_runs(ctx, cases, references, diff_dir, false, true)
+}
+
+fn check_runs(
+    ctx: &GlContext,
+    cases: &[&Case],
+    references: &References,
+    diff_dir: &Path,
+    update: bool,
+    twice: bool,
 ) -> Result<Vec<Outcome>> {
     let update_dir = match (update, references) {
         (false, _) => None,
@@ -153,9 +223,38 @@ pub fn check(
             }
             c
         };
+        let rerun = if twice {
+            let t = Instant::now();
+            faults::rerun(true);
+            let second = cases::render(ctx, case);
+            faults::rerun(false);
+            let second = second.with_context(|| format!("golden case {}, again", case.name))?;
+            Some(Rerun::of(
+                &picture.rgb,
+                &second.rgb,
+                t.elapsed().as_secs_f64(),
+            ))
+        } else {
+            None
+        };
+        let mut comparison = comparison;
+        if let Some(r) = rerun.as_ref().filter(|r| r.differing > 0.0) {
+            comparison.pass = false;
+            let why = format!(
+                "the second render differs from the first in {:.3} % of its values (largest \
+                 difference {:.3e})",
+                100.0 * r.differing,
+                r.largest
+            );
+            comparison.message = match comparison.message.is_empty() {
+                true => why,
+                false => format!("{}; {why}", comparison.message),
+            };
+        }
         results.push(Outcome {
             comparison,
             seconds,
+            rerun,
         });
     }
     Ok(results)
@@ -211,5 +310,22 @@ mod tests {
             assert!(!rgb.is_empty(), "{}", case.name);
         }
         assert_eq!(BUILT_IN.len(), CASES.len());
+    }
+
+    #[test]
+    fn a_rerun_differs_by_any_bit() {
+        let first = [0.25f32, 0.0, 1.0, f32::NAN];
+        let same = Rerun::of(&first, &first, 0.0);
+        assert_eq!(
+            (same.differing, same.largest),
+            (0.0, 0.0),
+            "NaN bits equal NaN bits"
+        );
+        // One ulp, and zero's sign: within any tolerance, still not the same answer.
+        let nudged = [f32::from_bits(0.25f32.to_bits() + 1), -0.0, 1.0, f32::NAN];
+        let r = Rerun::of(&first, &nudged, 0.0);
+        assert_eq!(r.differing, 0.5);
+        assert!(r.largest > 0.0 && r.largest < 1e-7, "{}", r.largest);
+        assert_eq!(Rerun::of(&first, &first[..3], 0.0).differing, 1.0);
     }
 }

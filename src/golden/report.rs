@@ -11,9 +11,17 @@ use std::time::Duration;
 /// The figures of one outcome, as a line.
 pub fn figures(o: &super::Outcome) -> String {
     let c = &o.comparison;
+    let again = match &o.rerun {
+        None => String::new(),
+        Some(r) => format!(
+            "; again: {:.3} % of values differ, {:.1} s",
+            100.0 * r.differing,
+            r.seconds
+        ),
+    };
     format!(
         "RMS {:.4} % (pixel against pixel {:.4} %), outliers {:.3} %, not identical {:.3} %, \
-         {:.1} s",
+         {:.1} s{again}",
         100.0 * c.rms,
         100.0 * c.rms_plain,
         100.0 * c.outliers,
