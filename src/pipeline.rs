@@ -368,15 +368,32 @@ pub fn solve(
     threads: usize,
     progress: impl FnMut(&ShotRecord),
 ) -> Result<Solution, SolveError> {
+    solve_until(ctx, scene, layout, kind, options, threads, progress, || {
+        false
+    })
+}
+
+/// [`solve`], also stopped between shots when `stop` says so (an interrupt, a time limit).
+#[allow(clippy::too_many_arguments)]
+pub fn solve_until(
+    ctx: &GlContext,
+    scene: &Scene,
+    layout: &PatchLayout,
+    kind: SolverKind,
+    options: SolveOptions,
+    threads: usize,
+    progress: impl FnMut(&ShotRecord),
+    stop: impl FnMut() -> bool,
+) -> Result<Solution, SolveError> {
     Ok(match kind {
         SolverKind::Gpu => {
             let mut solver = GpuSolver::new(ctx, scene, layout, options)?;
-            solver.solve(progress)?;
+            solver.solve_until(progress, stop)?;
             Solution::of(&solver)
         }
         SolverKind::Cpu => {
             let mut solver = CpuSolver::new(scene, layout, options, threads)?;
-            solver.solve(progress)?;
+            solver.solve_until(progress, stop)?;
             Solution::of(&solver)
         }
     })
@@ -472,6 +489,13 @@ pub struct Stats {
     pub threads: Option<usize>,
     /// Unshot power over emitted power at the end.
     pub unshot_fraction: f64,
+    /// Why the solve stopped.
+    pub stopped: Stopped,
+    /// Whether a signal stopped it (`stopped` is then `interrupted`): the solution is the one
+    /// of its last shot, `unshot_fraction` what was left.
+    pub interrupted: bool,
+    /// The solve's time limit (`--max-seconds`), if any.
+    pub max_seconds: Option<f64>,
     /// Emitted power of the scene (radiance × area × π, summed over RGB).
     pub emitted_power: f64,
     /// The ambient radiance added to the images (with the ambient term), RGB.
@@ -484,6 +508,35 @@ pub struct Stats {
     pub pass_seconds: PassTimes,
     /// Each shot's record, in order.
     pub history: Vec<ShotRecord>,
+}
+
+/// Why a solve stopped (`stats.json`'s `stopped`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stopped {
+    /// The unshot fraction reached the threshold.
+    Threshold,
+    /// `max_shots` shots were made.
+    MaxShots,
+    /// Nothing was left that Find_Max_Energy would shoot.
+    NothingToShoot,
+    /// The time limit (`--max-seconds`) was reached.
+    MaxSeconds,
+    /// A signal (SIGINT, SIGTERM, SIGHUP) asked it to stop.
+    Interrupted,
+}
+
+impl Stopped {
+    /// Why a solve that ran to the end of its loop stopped, from where it ended.
+    pub fn of(solution: &Solution, options: &SolveOptions) -> Stopped {
+        if solution.unshot_fraction <= options.threshold as f64 {
+            Stopped::Threshold
+        } else if solution.shots >= options.max_shots {
+            Stopped::MaxShots
+        } else {
+            Stopped::NothingToShoot
+        }
+    }
 }
 
 /// Where and how a solve ran, for [`Stats::new`].
@@ -514,6 +567,7 @@ impl Stats {
     /// The statistics of `solution` solved as `run` says, with the images' ambient term.
     pub fn new(run: Run, solution: &Solution, ambient: Option<Vec3>) -> Stats {
         let (scene, layout) = (run.scene, run.layout);
+        let stopped = Stopped::of(solution, &run.options);
         Stats {
             scene: run.scene_name,
             faces: scene.faces,
@@ -541,6 +595,9 @@ impl Stats {
             peak_memory_mib: peak_memory_mib(),
             threads: run.threads,
             unshot_fraction: solution.unshot_fraction,
+            stopped,
+            interrupted: false,
+            max_seconds: None,
             emitted_power: solution.emitted_power,
             ambient: ambient.map(|l| l.to_array()),
             smooth_angle: run.smoothing.angle(),

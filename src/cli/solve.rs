@@ -49,6 +49,10 @@ pub struct SolveArgs {
         allow_hyphen_values = true,
     )]
     pub max_shots: Option<u32>,
+    /// Stop after this many seconds of solving (finite, > 0), writing the solution so far as
+    /// any solve's.
+    #[arg(long, value_parser = values::positive, allow_hyphen_values = true)]
+    pub max_seconds: Option<f32>,
     /// Aim at about this many patches, 1 to 1,048,576 (default, unless the scene sets a patch
     /// size: 4096, plus 2 per polygon on scenes of more than 512 polygons).
     #[arg(
@@ -358,7 +362,9 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         }
     }
     check_limits(args, &ctx, &layout, &options)?;
-    let solution = solve(args, &ctx, &scene, &layout, &options, &set)?;
+    let limits = super::stopping::Limits::begin(args.max_seconds.map(f64::from));
+    let solution = solve(args, &ctx, &scene, &layout, &options, &set, &limits)?;
+    let stopped = limits.end();
     solution
         .check_light_reaches(&scene)
         .with_context(|| scene_name.clone())?;
@@ -390,7 +396,11 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         threads: (args.solver == SolverKind::Cpu).then(|| rayon_threads(args.threads)),
         smoothing: &smoothing,
     };
-    let stats = Stats::new(run, &solution, ambient);
+    let mut stats = Stats::new(run, &solution, ambient);
+    if let Some(why) = stopped {
+        (stats.stopped, stats.interrupted) = (why, why == pipeline::Stopped::Interrupted);
+    }
+    stats.max_seconds = args.max_seconds.map(f64::from);
     pipeline::write_outputs(&set, &image, args.exposure, &layout, &solution, &stats)?;
     if args.plot {
         let title = format!("{} ({:?} mode)", scene.name, args.mode).to_lowercase();
@@ -398,6 +408,9 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     }
     set.publish()?;
     eprintln!("wrote {}", out_dir.display());
+    if let Some(why) = stopped {
+        eprintln!("{}", super::stopping::said(why, &solution));
+    }
     Ok(SolveOutcome { stats, out_dir })
 }
 
@@ -497,21 +510,33 @@ fn solve(
     layout: &PatchLayout,
     options: &SolveOptions,
     set: &OutputSet,
+    limits: &super::stopping::Limits,
 ) -> Result<pipeline::Solution> {
     let bar = progress_bar(args.threshold());
     let progress = |r: &ShotRecord| {
+        limits.see(r);
         bar.set_position(progress_position(r.unshot_fraction, args.threshold()));
         bar.set_message(format!("shot {} unshot {:.4}", r.shot, r.unshot_fraction));
     };
     let solution = if args.dump_passes.is_empty() {
         let (kind, threads) = (args.solver, args.threads);
-        pipeline::solve(ctx, scene, layout, kind, options.clone(), threads, progress)
-            .map_err(with_flags)?
+        let stop = || limits.stop();
+        pipeline::solve_until(
+            ctx,
+            scene,
+            layout,
+            kind,
+            options.clone(),
+            threads,
+            progress,
+            stop,
+        )
+        .map_err(with_flags)?
     } else {
         let mut solver = GpuSolver::new(ctx, scene, layout, options.clone()).map_err(with_flags)?;
         // Both hooks use the dumps, one after the other.
         let dumps = RefCell::new(display::passes::PassDumps::new(&args.dump_passes, set));
-        solver.solve_with(
+        solver.solve_with_until(
             |s| dumps.borrow_mut().before_shot(s),
             |s, record| -> Result<()> {
                 dumps
@@ -523,6 +548,7 @@ fn solve(
                 progress(record);
                 Ok(())
             },
+            || limits.stop(),
         )?;
         pipeline::Solution::of(&solver)
     };
