@@ -25,7 +25,7 @@ use crate::display::output_set::OutputSet;
 use crate::display::{self, DisplayMesh, Image, Smoothing};
 use crate::gl::{limits, GlContext, GlError, GlInfo, LimitError};
 use crate::patches::{LayoutError, PatchLayout, Resolution};
-use crate::scene::{bundled, Camera, Emission, LoadOptions, Scene, SceneError};
+use crate::scene::{bundled, Camera, Emission, LoadOptions, Scene, SceneError, SkyStats};
 use crate::solver::{
     visibility, Backend, CpuSolver, GpuSolver, PassTimes, ShotRecord, SolveError, SolveOptions,
     Solver, VisibilityKind,
@@ -46,7 +46,8 @@ pub const FEW_POLYGONS: usize = DEFAULT_PATCHES as usize / 8;
 /// larger than the scene); two per polygon leave at least half the patches to the surfaces
 /// larger than a patch, in proportion to their area.
 pub fn default_patches(scene: &Scene) -> u32 {
-    let polygons = scene.polygons.len();
+    // The sky's quads (`--sky`) have their own patch each, outside the budget.
+    let polygons = scene.own_polygons().len();
     if polygons <= FEW_POLYGONS {
         DEFAULT_PATCHES
     } else {
@@ -216,7 +217,7 @@ pub fn resolution_and_reason(
         (Some(s), _, _) => (Resolution::PatchSize(s), "--patch-size".into()),
         (None, Some(n), _) => (Resolution::Patches(n), format!("--patches {n}")),
         (None, None, Some(s)) => (Resolution::PatchSize(s), "the scene's # patch-size".into()),
-        (None, None, None) if scene.polygons.len() <= FEW_POLYGONS => (
+        (None, None, None) if scene.own_polygons().len() <= FEW_POLYGONS => (
             Resolution::Patches(DEFAULT_PATCHES),
             format!("the default budget of {DEFAULT_PATCHES} patches"),
         ),
@@ -225,7 +226,7 @@ pub fn resolution_and_reason(
             format!(
                 "the default budget for {} polygons: {DEFAULT_PATCHES} + 2 per polygon = {} \
                  patches, so that surfaces larger than a patch keep at least half of them",
-                scene.polygons.len(),
+                scene.own_polygons().len(),
                 default_patches(scene)
             ),
         ),
@@ -467,6 +468,9 @@ pub struct Stats {
     pub options: SolveOptions,
     /// Emission overrides applied after loading (`--emit`), in order.
     pub emit: Vec<Emission>,
+    /// Beyond the paper, the sky (`--sky`): its radiance, quads and patches, which `polygons`,
+    /// `lights` and `patches` leave out.
+    pub sky: Option<SkyStats>,
     /// Shots made.
     pub shots: u32,
     /// Visibility + reconstruction pass pairs (one per shooter cell of each shot).
@@ -567,14 +571,18 @@ impl Stats {
     /// The statistics of `solution` solved as `run` says, with the images' ambient term.
     pub fn new(run: Run, solution: &Solution, ambient: Option<Vec3>) -> Stats {
         let (scene, layout) = (run.scene, run.layout);
+        let own = scene.own_polygons().len();
+        let sky_patches = layout.patches_per_polygon[own..].iter().map(|&n| n as u64);
+        let sky = scene.sky_stats(sky_patches.sum());
+        let sky_patches = sky.as_ref().map_or(0, |s| s.patches);
         let stopped = Stopped::of(solution, &run.options);
         Stats {
             scene: run.scene_name,
             faces: scene.faces,
-            polygons: scene.polygons.len(),
+            polygons: own,
             vertices: scene.vertex_count,
-            lights: scene.light_count(),
-            patches: layout.patch_count(),
+            lights: scene.light_count() - sky.as_ref().map_or(0, |s| s.polygons),
+            patches: layout.patch_count() - sky_patches,
             patch_size: layout.patch_size,
             atlas: [layout.atlas_width, layout.atlas_height],
             solver: run.solver,
@@ -585,6 +593,7 @@ impl Stats {
             gl_version: run.gl.version.clone(),
             options: run.options,
             emit: run.emit.to_vec(),
+            sky,
             shots: solution.shots,
             passes: solution.passes,
             corrections: solution.corrections,
