@@ -264,3 +264,13 @@ fn an_open_level_without_emitters_is_lit_by_the_sky() {
     let pixels = (image.width() * image.height()) as usize;
     assert!(lit > pixels / 2, "{lit} of {pixels} pixels lit");
 }
+
+#[test]
+fn a_sky_out_of_range_is_a_usage_error() {
+    for bad in ["0,0,0", "-1,1,1", "1,1", "nan,1,1", "1,1,2e15", "grey"] {
+        let o = bin().args(["solve", "--sky", bad]).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{bad}: {err}");
+        assert!(err.contains("--sky") && err.contains(bad), "{bad}: {err}");
+    }
+}
