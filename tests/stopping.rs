@@ -16,11 +16,13 @@ fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_radiosity"))
 }
 
-/// The Cornell box on the GPU to a threshold it takes far longer than these tests to reach.
+/// The Cornell box on the GPU to a threshold it takes far longer than these tests to reach (at
+/// 16,384 patches without overshooting: 6e-5 unshot after 15 s here, 1e-7 asked).
 fn long_solve(out: &Path, size: &str) -> Vec<String> {
     let out = out.to_str().unwrap();
-    ["solve", "--patches", "4096", "--threshold", "0.00001"]
+    ["solve", "--patches", "16384", "--threshold", "0.0000001"]
         .into_iter()
+        .chain(["--max-shots", "1000000", "--overshoot", "false"])
         .chain(["--size", size, "--out", out])
         .map(String::from)
         .collect()
@@ -144,7 +146,7 @@ fn a_first_signal_writes_the_solution_so_far_as_a_whole_set() {
         let shots = s["shots"].as_u64().unwrap();
         let unshot = s["unshot_fraction"].as_f64().unwrap();
         assert!(shots > 0, "{s}");
-        assert!(unshot > 1e-5 && unshot < 1.0, "{unshot}");
+        assert!(unshot > 1e-7 && unshot < 1.0, "{unshot}");
         assert_eq!(
             s["history"].as_array().unwrap().last().unwrap()["shot"],
             shots
@@ -196,7 +198,7 @@ fn max_seconds_stops_the_solve_and_writes_the_set() {
     let seconds = s["solve_seconds"].as_f64().unwrap();
     // The shot under way when the time ran out is finished: a fraction of a second here.
     assert!((1.5..6.0).contains(&seconds), "{seconds}");
-    assert!(s["unshot_fraction"].as_f64().unwrap() > 1e-5);
+    assert!(s["unshot_fraction"].as_f64().unwrap() > 1e-7);
 
     // Out of range: a usage error.
     let o = bin()
