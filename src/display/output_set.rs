@@ -352,8 +352,12 @@ static REQUESTED: AtomicI32 = AtomicI32::new(0);
 
 /// While `on` (a solve's loop), the first SIGINT, SIGTERM or SIGHUP does not end the process:
 /// it is kept for [`stop_requested`], so that the solve stops after its current shot and its
-/// solution so far is written as a whole set. A second one ends the process as before.
+/// solution so far is written as a whole set. A second one ends the process as before. Turning
+/// it on forgets an earlier solve's signal (a program may run several).
 pub fn defer_first_signal(on: bool) {
+    if on {
+        REQUESTED.store(0, Ordering::SeqCst);
+    }
     DEFER.store(on, Ordering::SeqCst);
 }
 
