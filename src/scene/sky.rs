@@ -170,7 +170,9 @@ fn quads(lo: Vec3, hi: Vec3) -> Vec<[Vec3; 4]> {
     out
 }
 
-/// Quads along an edge of `length` for quads of side about `cell`: at least one.
+/// Quads along an edge of `length` for quads of side about `cell`: at least one, and at most
+/// four times the top's, so that a tall, narrow scene's sides stay a few thousand quads (longer
+/// ones then).
 fn divisions(length: f32, cell: f32) -> u32 {
     ((length / cell).round() as u32).clamp(1, 4 * DIVISIONS)
 }
