@@ -25,7 +25,7 @@ use crate::display::output_set::OutputSet;
 use crate::display::{self, DisplayMesh, Image, Smoothing};
 use crate::gl::{limits, GlContext, GlError, GlInfo, LimitError};
 use crate::patches::{LayoutError, PatchLayout, Resolution};
-use crate::scene::{bundled, Camera, Emission, LoadOptions, Scene, SceneError};
+use crate::scene::{bundled, Camera, Emission, LoadOptions, Scene, SceneError, SkyStats};
 use crate::solver::{
     visibility, Backend, CpuSolver, GpuSolver, PassTimes, ShotRecord, SolveError, SolveOptions,
     Solver, VisibilityKind,
@@ -46,7 +46,8 @@ pub const FEW_POLYGONS: usize = DEFAULT_PATCHES as usize / 8;
 /// larger than the scene); two per polygon leave at least half the patches to the surfaces
 /// larger than a patch, in proportion to their area.
 pub fn default_patches(scene: &Scene) -> u32 {
-    let polygons = scene.polygons.len();
+    // The sky's quads (`--sky`) have their own patch each, outside the budget.
+    let polygons = scene.own_polygons().len();
     if polygons <= FEW_POLYGONS {
         DEFAULT_PATCHES
     } else {
@@ -216,7 +217,7 @@ pub fn resolution_and_reason(
         (Some(s), _, _) => (Resolution::PatchSize(s), "--patch-size".into()),
         (None, Some(n), _) => (Resolution::Patches(n), format!("--patches {n}")),
         (None, None, Some(s)) => (Resolution::PatchSize(s), "the scene's # patch-size".into()),
-        (None, None, None) if scene.polygons.len() <= FEW_POLYGONS => (
+        (None, None, None) if scene.own_polygons().len() <= FEW_POLYGONS => (
             Resolution::Patches(DEFAULT_PATCHES),
             format!("the default budget of {DEFAULT_PATCHES} patches"),
         ),
@@ -225,7 +226,7 @@ pub fn resolution_and_reason(
             format!(
                 "the default budget for {} polygons: {DEFAULT_PATCHES} + 2 per polygon = {} \
                  patches, so that surfaces larger than a patch keep at least half of them",
-                scene.polygons.len(),
+                scene.own_polygons().len(),
                 default_patches(scene)
             ),
         ),
@@ -368,15 +369,32 @@ pub fn solve(
     threads: usize,
     progress: impl FnMut(&ShotRecord),
 ) -> Result<Solution, SolveError> {
+    solve_until(ctx, scene, layout, kind, options, threads, progress, || {
+        false
+    })
+}
+
+/// [`solve`], also stopped between shots when `stop` says so (an interrupt, a time limit).
+#[allow(clippy::too_many_arguments)]
+pub fn solve_until(
+    ctx: &GlContext,
+    scene: &Scene,
+    layout: &PatchLayout,
+    kind: SolverKind,
+    options: SolveOptions,
+    threads: usize,
+    progress: impl FnMut(&ShotRecord),
+    stop: impl FnMut() -> bool,
+) -> Result<Solution, SolveError> {
     Ok(match kind {
         SolverKind::Gpu => {
             let mut solver = GpuSolver::new(ctx, scene, layout, options)?;
-            solver.solve(progress)?;
+            solver.solve_until(progress, stop)?;
             Solution::of(&solver)
         }
         SolverKind::Cpu => {
             let mut solver = CpuSolver::new(scene, layout, options, threads)?;
-            solver.solve(progress)?;
+            solver.solve_until(progress, stop)?;
             Solution::of(&solver)
         }
     })
@@ -450,6 +468,9 @@ pub struct Stats {
     pub options: SolveOptions,
     /// Emission overrides applied after loading (`--emit`), in order.
     pub emit: Vec<Emission>,
+    /// Beyond the paper, the sky (`--sky`): its radiance, quads and patches, which `polygons`,
+    /// `lights` and `patches` leave out.
+    pub sky: Option<SkyStats>,
     /// Shots made.
     pub shots: u32,
     /// Visibility + reconstruction pass pairs (one per shooter cell of each shot).
@@ -472,6 +493,13 @@ pub struct Stats {
     pub threads: Option<usize>,
     /// Unshot power over emitted power at the end.
     pub unshot_fraction: f64,
+    /// Why the solve stopped.
+    pub stopped: Stopped,
+    /// Whether a signal stopped it (`stopped` is then `interrupted`): the solution is the one
+    /// of its last shot, `unshot_fraction` what was left.
+    pub interrupted: bool,
+    /// The solve's time limit (`--max-seconds`), if any.
+    pub max_seconds: Option<f64>,
     /// Emitted power of the scene (radiance × area × π, summed over RGB).
     pub emitted_power: f64,
     /// The ambient radiance added to the images (with the ambient term), RGB.
@@ -484,6 +512,35 @@ pub struct Stats {
     pub pass_seconds: PassTimes,
     /// Each shot's record, in order.
     pub history: Vec<ShotRecord>,
+}
+
+/// Why a solve stopped (`stats.json`'s `stopped`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stopped {
+    /// The unshot fraction reached the threshold.
+    Threshold,
+    /// `max_shots` shots were made.
+    MaxShots,
+    /// Nothing was left that Find_Max_Energy would shoot.
+    NothingToShoot,
+    /// The time limit (`--max-seconds`) was reached.
+    MaxSeconds,
+    /// A signal (SIGINT, SIGTERM, SIGHUP) asked it to stop.
+    Interrupted,
+}
+
+impl Stopped {
+    /// Why a solve that ran to the end of its loop stopped, from where it ended.
+    pub fn of(solution: &Solution, options: &SolveOptions) -> Stopped {
+        if solution.unshot_fraction <= options.threshold as f64 {
+            Stopped::Threshold
+        } else if solution.shots >= options.max_shots {
+            Stopped::MaxShots
+        } else {
+            Stopped::NothingToShoot
+        }
+    }
 }
 
 /// Where and how a solve ran, for [`Stats::new`].
@@ -514,13 +571,18 @@ impl Stats {
     /// The statistics of `solution` solved as `run` says, with the images' ambient term.
     pub fn new(run: Run, solution: &Solution, ambient: Option<Vec3>) -> Stats {
         let (scene, layout) = (run.scene, run.layout);
+        let own = scene.own_polygons().len();
+        let sky_patches = layout.patches_per_polygon[own..].iter().map(|&n| n as u64);
+        let sky = scene.sky_stats(sky_patches.sum());
+        let sky_patches = sky.as_ref().map_or(0, |s| s.patches);
+        let stopped = Stopped::of(solution, &run.options);
         Stats {
             scene: run.scene_name,
             faces: scene.faces,
-            polygons: scene.polygons.len(),
+            polygons: own,
             vertices: scene.vertex_count,
-            lights: scene.light_count(),
-            patches: layout.patch_count(),
+            lights: scene.light_count() - sky.as_ref().map_or(0, |s| s.polygons),
+            patches: layout.patch_count() - sky_patches,
             patch_size: layout.patch_size,
             atlas: [layout.atlas_width, layout.atlas_height],
             solver: run.solver,
@@ -531,6 +593,7 @@ impl Stats {
             gl_version: run.gl.version.clone(),
             options: run.options,
             emit: run.emit.to_vec(),
+            sky,
             shots: solution.shots,
             passes: solution.passes,
             corrections: solution.corrections,
@@ -541,6 +604,9 @@ impl Stats {
             peak_memory_mib: peak_memory_mib(),
             threads: run.threads,
             unshot_fraction: solution.unshot_fraction,
+            stopped,
+            interrupted: false,
+            max_seconds: None,
             emitted_power: solution.emitted_power,
             ambient: ambient.map(|l| l.to_array()),
             smooth_angle: run.smoothing.angle(),

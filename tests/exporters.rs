@@ -230,7 +230,8 @@ fn no_emitter_lists_the_materials_by_area_and_emit_errors_name_them() {
                     Its materials, largest area first: white (3 faces, area 60.0), red (1 face, \
                     area 18.0), green (1 face, area 18.0), blue (1 face, area 12.0), lamp (1 \
                     face, area 1.00), glow (0 faces, area 0). Make one emit light with \
-                    `--emit NAME=R,G,B` (emitted radiance, as `Ke R G B` in the MTL file)";
+                    `--emit NAME=R,G,B` (emitted radiance, as `Ke R G B` in the MTL file), or \
+                    light a scene open to the sky with `--sky R,G,B`";
     assert!(err.lines().any(|l| l == expected), "{err}");
 
     // A name the scene does not have: the error lists the materials (exit 1, both commands;

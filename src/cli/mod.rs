@@ -11,6 +11,7 @@ pub mod bench;
 mod check;
 mod info;
 mod solve;
+mod stopping;
 mod validate;
 mod values;
 mod view;

@@ -49,6 +49,10 @@ pub struct SolveArgs {
         allow_hyphen_values = true,
     )]
     pub max_shots: Option<u32>,
+    /// Stop after this many seconds of solving (finite, > 0), writing the solution so far as
+    /// any solve's.
+    #[arg(long, value_parser = values::positive, allow_hyphen_values = true)]
+    pub max_seconds: Option<f32>,
     /// Aim at about this many patches, 1 to 1,048,576 (default, unless the scene sets a patch
     /// size: 4096, plus 2 per polygon on scenes of more than 512 polygons).
     #[arg(
@@ -160,6 +164,10 @@ pub struct SolveArgs {
     /// to 1e15; 0,0,0 turns an emitter off). Repeatable.
     #[arg(long, value_name = "NAME=R,G,B", value_parser = values::emission, allow_hyphen_values = true)]
     pub emit: Vec<Emission>,
+    /// Beyond the paper: light the scene through its openings by a uniform sky of radiance
+    /// R,G,B (each 0 to 1e15), emitters around the scene's bounds (see src/scene/sky.rs).
+    #[arg(long, value_name = "R,G,B", value_parser = values::sky, allow_hyphen_values = true)]
+    pub sky: Option<Vec3>,
     /// Keep every face of the OBJ its own polygon (as a `# keep-faces` line in the file does);
     /// by default connected coplanar faces of one material become one polygon.
     #[arg(long)]
@@ -333,7 +341,8 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     // First: a signal from here on removes what this run staged and exits 1.
     display::output_set::exit_on_signals()?;
     check_solve_settings(args.threshold(), args.patch_size, args.patches)?;
-    let (scene, scene_path) = load_scene(args.scene.as_deref(), &args.emit, args.keep_faces)?;
+    let (scene, scene_path) =
+        load_scene(args.scene.as_deref(), &args.emit, args.keep_faces, args.sky)?;
     let scene_name = scene_path.display().to_string();
     // Without a `# camera` line, chosen by casting rays into the scene: once.
     let camera = camera_from(args, scene.camera_or_default());
@@ -358,7 +367,9 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         }
     }
     check_limits(args, &ctx, &layout, &options)?;
-    let solution = solve(args, &ctx, &scene, &layout, &options, &set)?;
+    let limits = super::stopping::Limits::begin(args.max_seconds.map(f64::from));
+    let solution = solve(args, &ctx, &scene, &layout, &options, &set, &limits)?;
+    let stopped = limits.end();
     solution
         .check_light_reaches(&scene)
         .with_context(|| scene_name.clone())?;
@@ -390,7 +401,11 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         threads: (args.solver == SolverKind::Cpu).then(|| rayon_threads(args.threads)),
         smoothing: &smoothing,
     };
-    let stats = Stats::new(run, &solution, ambient);
+    let mut stats = Stats::new(run, &solution, ambient);
+    if let Some(why) = stopped {
+        (stats.stopped, stats.interrupted) = (why, why == pipeline::Stopped::Interrupted);
+    }
+    stats.max_seconds = args.max_seconds.map(f64::from);
     pipeline::write_outputs(&set, &image, args.exposure, &layout, &solution, &stats)?;
     if args.plot {
         let title = format!("{} ({:?} mode)", scene.name, args.mode).to_lowercase();
@@ -398,6 +413,9 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     }
     set.publish()?;
     eprintln!("wrote {}", out_dir.display());
+    if let Some(why) = stopped {
+        eprintln!("{}", super::stopping::said(why, &solution));
+    }
     Ok(SolveOutcome { stats, out_dir })
 }
 
@@ -430,9 +448,10 @@ fn check_dump_passes(args: &SolveArgs) -> Result<()> {
 /// The patch layout the flags or the scene ask for, reported on stderr with its reason.
 fn lay_out(args: &SolveArgs, scene: &Scene) -> Result<PatchLayout> {
     let layout = pipeline::lay_out(scene, args.patch_size, args.patches)?;
+    let sky = (scene.polygons.len() - scene.own_polygons().len()) as u64;
     eprintln!(
         "patches: {} at patch size {:.4}, from {}",
-        layout.patch_count(),
+        layout.patch_count() - sky,
         layout.patch_size,
         pipeline::resolution_and_reason(scene, args.patch_size, args.patches).1
     );
@@ -458,17 +477,26 @@ fn report_setup(info: &GlInfo, scene: &Scene, layout: &PatchLayout) {
         info.renderer,
         info.version
     );
+    // The sky's quads are counted apart (one patch each).
+    let sky = scene.polygons.len() - scene.own_polygons().len();
     eprintln!(
         "scene {}: {}, {} vertices, {} lights, {} patches (patch size {:.4}, atlas {}x{})",
         scene.name,
         faces_and_polygons(scene),
         scene.vertex_count,
-        scene.light_count(),
-        layout.patch_count(),
+        scene.light_count() - sky,
+        layout.patch_count() - sky as u64,
         layout.patch_size,
         layout.atlas_width,
         layout.atlas_height
     );
+    if let Some(sky) = scene.sky_stats(sky as u64) {
+        let [r, g, b] = sky.radiance;
+        eprintln!(
+            "sky: radiance {r},{g},{b} from {} emitting quads around the scene (one patch each)",
+            sky.polygons
+        );
+    }
 }
 
 /// The driver's limits against the atlas, the item buffer and the image, naming the flags.
@@ -497,21 +525,33 @@ fn solve(
     layout: &PatchLayout,
     options: &SolveOptions,
     set: &OutputSet,
+    limits: &super::stopping::Limits,
 ) -> Result<pipeline::Solution> {
     let bar = progress_bar(args.threshold());
     let progress = |r: &ShotRecord| {
+        limits.see(r);
         bar.set_position(progress_position(r.unshot_fraction, args.threshold()));
         bar.set_message(format!("shot {} unshot {:.4}", r.shot, r.unshot_fraction));
     };
     let solution = if args.dump_passes.is_empty() {
         let (kind, threads) = (args.solver, args.threads);
-        pipeline::solve(ctx, scene, layout, kind, options.clone(), threads, progress)
-            .map_err(with_flags)?
+        let stop = || limits.stop();
+        pipeline::solve_until(
+            ctx,
+            scene,
+            layout,
+            kind,
+            options.clone(),
+            threads,
+            progress,
+            stop,
+        )
+        .map_err(with_flags)?
     } else {
         let mut solver = GpuSolver::new(ctx, scene, layout, options.clone()).map_err(with_flags)?;
         // Both hooks use the dumps, one after the other.
         let dumps = RefCell::new(display::passes::PassDumps::new(&args.dump_passes, set));
-        solver.solve_with(
+        solver.solve_with_until(
             |s| dumps.borrow_mut().before_shot(s),
             |s, record| -> Result<()> {
                 dumps
@@ -523,6 +563,7 @@ fn solve(
                 progress(record);
                 Ok(())
             },
+            || limits.stop(),
         )?;
         pipeline::Solution::of(&solver)
     };
@@ -550,10 +591,12 @@ pub(crate) fn load_scene(
     path: Option<&Path>,
     emit: &[Emission],
     keep_faces: bool,
+    sky: Option<Vec3>,
 ) -> Result<(Scene, PathBuf)> {
     let options = LoadOptions {
         emit: emit.to_vec(),
         keep_faces,
+        sky,
     };
     pipeline::load_scene_with(path, &options).map_err(|e| match e {
         SceneError::Emit { .. } => anyhow::anyhow!("{e} (set with --emit)"),
@@ -644,9 +687,10 @@ fn progress_bar(_threshold: f32) -> indicatif::ProgressBar {
 
 /// `N faces`, or `N faces → M polygons` when the reader merged coplanar faces.
 fn faces_and_polygons(scene: &Scene) -> String {
-    if scene.faces == scene.polygons.len() {
+    let polygons = scene.own_polygons().len();
+    if scene.faces == polygons {
         format!("{} faces", scene.faces)
     } else {
-        format!("{} faces → {} polygons", scene.faces, scene.polygons.len())
+        format!("{} faces → {polygons} polygons", scene.faces)
     }
 }

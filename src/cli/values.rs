@@ -4,6 +4,7 @@
 
 use crate::display::smooth::MAX_ANGLE;
 use crate::scene::{Emission, FOV_RANGE, MAX_KE};
+use glam::Vec3;
 
 /// Most shots a solve may ask for: the bench's own cap; more only spins on a solve that has
 /// stopped converging.
@@ -141,6 +142,23 @@ pub fn emission(s: &str) -> Result<Emission, String> {
             "the radiance in '{s}' must be three numbers from 0 to {MAX_KE:e}"
         )),
         _ => Err(usage()),
+    }
+}
+
+/// `--sky R,G,B`: the sky's radiance, three numbers in [0, [`MAX_KE`]], not all 0.
+pub fn sky(s: &str) -> Result<Vec3, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("expected R,G,B (the sky's radiance), got '{s}'"))?;
+    match v[..] {
+        [r, g, b] if v.iter().all(|c| (0.0..=MAX_KE).contains(c)) && r.max(g).max(b) > 0.0 => {
+            Ok(Vec3::new(r, g, b))
+        }
+        _ => Err(format!(
+            "the sky's radiance '{s}' must be three numbers from 0 to {MAX_KE:e}, not all 0"
+        )),
     }
 }
 

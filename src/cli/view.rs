@@ -34,6 +34,9 @@ pub struct ViewArgs {
     /// Make the material NAME emit light, as for `solve` (radiance R,G,B, as `Ke`). Repeatable.
     #[arg(long, value_name = "NAME=R,G,B", value_parser = values::emission, allow_hyphen_values = true)]
     pub emit: Vec<Emission>,
+    /// Light the scene by a uniform sky of radiance R,G,B, as for `solve`.
+    #[arg(long, value_name = "R,G,B", value_parser = values::sky, allow_hyphen_values = true)]
+    pub sky: Option<glam::Vec3>,
     /// Keep every face its own polygon, as for `solve`.
     #[arg(long)]
     pub keep_faces: bool,
@@ -82,6 +85,7 @@ pub fn run_view(args: &ViewArgs) -> Result<()> {
     viewer::run(ViewOptions {
         scene: args.scene.clone(),
         emit: args.emit.clone(),
+        sky: args.sky,
         keep_faces: args.keep_faces,
         mode: args.mode,
         threshold,

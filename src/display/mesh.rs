@@ -42,7 +42,8 @@ impl DisplayMesh {
         smoothing: Smoothing,
     ) -> Result<DisplayMesh, GlError> {
         let mut data = Vec::new();
-        for (i, p) in scene.polygons.iter().enumerate() {
+        // The sky (`--sky`) lights the scene but is not drawn: the background shows there.
+        for (i, p) in scene.own_polygons().iter().enumerate() {
             let (first, count) = smoothing.edge_range(i);
             for tri in triangulate(&p.vertices, p.normal) {
                 for k in tri {

@@ -28,7 +28,7 @@ use std::fs::{File, TryLockError};
 use std::io::{self, Write};
 use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 use std::sync::{Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
@@ -345,8 +345,33 @@ fn signal_name(signal: i32) -> &'static str {
     }
 }
 
+/// Whether the first signal asks the solve to stop instead of ending the process.
+static DEFER: AtomicBool = AtomicBool::new(false);
+/// The signal that asked it (0: none yet).
+static REQUESTED: AtomicI32 = AtomicI32::new(0);
+
+/// While `on` (a solve's loop), the first SIGINT, SIGTERM or SIGHUP does not end the process:
+/// it is kept for [`stop_requested`], so that the solve stops after its current shot and its
+/// solution so far is written as a whole set. A second one ends the process as before. Turning
+/// it on forgets an earlier solve's signal (a program may run several).
+pub fn defer_first_signal(on: bool) {
+    if on {
+        REQUESTED.store(0, Ordering::SeqCst);
+    }
+    DEFER.store(on, Ordering::SeqCst);
+}
+
+/// The name of the signal that asked the solve to stop, if one did.
+pub fn stop_requested() -> Option<&'static str> {
+    match REQUESTED.load(Ordering::SeqCst) {
+        0 => None,
+        signal => Some(signal_name(signal)),
+    }
+}
+
 /// From now on SIGINT, SIGTERM and SIGHUP end the process with status 1 and one message, after
 /// removing the staged files of an unpublished set; during a publish they wait for it to end.
+/// While [`defer_first_signal`] is on, the first one only asks the solve to stop.
 pub fn exit_on_signals() -> Result<()> {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     static INSTALLED: AtomicBool = AtomicBool::new(false);
@@ -358,10 +383,20 @@ pub fn exit_on_signals() -> Result<()> {
     std::thread::Builder::new()
         .name("signals".into())
         .spawn(move || {
-            if let Some(signal) = signals.forever().next() {
+            for signal in signals.forever() {
+                let name = signal_name(signal);
+                if DEFER.load(Ordering::SeqCst)
+                    && (REQUESTED.compare_exchange(0, signal, Ordering::SeqCst, Ordering::SeqCst))
+                        .is_ok()
+                {
+                    say(format_args!(
+                        "{name}: stopping after the current shot to write the solution so far; \
+                         a second signal stops at once and keeps the earlier outputs"
+                    ));
+                    continue;
+                }
                 // Kept locked until the exit: nothing is staged or published after this.
                 let state = state();
-                let name = signal_name(signal);
                 match &*state {
                     State::Staging { dir, staging } => {
                         let _ = std::fs::remove_dir_all(staging);

@@ -168,8 +168,12 @@ impl PatchLayout {
         };
         let max = MAX_ATLAS_SIDE;
         let mut lightmaps: Vec<Lightmap> = Vec::with_capacity(scene.polygons.len());
+        let sky = scene.sky_start().unwrap_or(usize::MAX);
         for (i, p) in scene.polygons.iter().enumerate() {
-            let lm = fit_lightmap(&p.vertices, p.normal, patch_size);
+            // A sky quad (`--sky`) is one patch at any patch size: the sky's own coarse
+            // resolution, which takes nothing from the scene's.
+            let size = if i >= sky { f32::INFINITY } else { patch_size };
+            let lm = fit_lightmap(&p.vertices, p.normal, size);
             if lm.w > max - 2 || lm.h > max - 2 {
                 // From a lightmap of about 1000 texels: at tiny patch sizes `lm`'s sides saturate.
                 let probe = p.bounding_sphere().1 / 500.0;
@@ -431,8 +435,9 @@ fn best_rectangle(vertices: &[Vec3], normal: Vec3) -> (Vec3, Vec3, Vec2, Vec2) {
 fn size_for_count(scene: &Scene, target: u32) -> f32 {
     // The rectangles once (they do not depend on the patch size); then each step of the search
     // only divides.
+    // The sky's quads are one patch each, outside the budget (`try_new`).
     let sizes: Vec<Vec2> = scene
-        .polygons
+        .own_polygons()
         .iter()
         .map(|p| {
             let (_, _, lo, hi) = best_rectangle(&p.vertices, p.normal);
@@ -448,7 +453,8 @@ fn size_for_count(scene: &Scene, target: u32) -> f32 {
             .fold(0u64, |a, b| a.saturating_add(b))
     };
     let target = target.max(1) as u64;
-    let mut size = (scene.total_area() / target as f32).sqrt();
+    let area: f32 = scene.own_polygons().iter().map(|p| p.area).sum();
+    let mut size = (area / target as f32).sqrt();
     // Bisection on the (monotone) lightmap texel count; patches are a little fewer than texels.
     // Thin shapes need far more texels than area / size² suggests: widen the bracket until it
     // holds the answer.

@@ -25,6 +25,9 @@ pub struct LoadOptions {
     /// Keep every face its own polygon (`--keep-faces`), as a scene's `# keep-faces` line does;
     /// otherwise connected coplanar faces of one material are merged (`merge.rs`).
     pub keep_faces: bool,
+    /// Beyond the paper: surround the scene with a uniform sky of this radiance (`--sky`,
+    /// `sky.rs`), added before the check that something emits.
+    pub sky: Option<Vec3>,
 }
 
 /// Materials listed in a message at most; the rest are counted.

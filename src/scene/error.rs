@@ -36,7 +36,8 @@ pub enum SceneError {
     #[error(
         "{path}: the scene has no emitter: no material has a positive Ke. Its materials, \
          largest area first: {materials}. Make one emit light with `--emit NAME=R,G,B` \
-         (emitted radiance, as `Ke R G B` in the MTL file)"
+         (emitted radiance, as `Ke R G B` in the MTL file), or light a scene open to the sky \
+         with `--sky R,G,B`"
     )]
     NoEmitter {
         /// The scene file, as messages show it.

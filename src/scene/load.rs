@@ -111,6 +111,12 @@ pub(super) fn parse_scene(
         faces,
     };
     scene.apply_emission(&shown_name, &options.emit)?;
+    if let Some(radiance) = options.sky {
+        (scene.add_sky(radiance)).map_err(|source| SceneError::Emit {
+            path: shown_name.clone(),
+            source,
+        })?;
+    }
     scene.check_emits(&shown_name)?;
     Ok(scene)
 }

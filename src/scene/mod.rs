@@ -14,6 +14,7 @@ pub mod merge;
 mod mtl;
 mod obj;
 mod overlap;
+pub mod sky;
 mod statements;
 pub mod third_party;
 mod triangulate;
@@ -22,6 +23,7 @@ pub use emission::{Emission, LoadOptions};
 pub use error::{EmissionError, SceneError, MAX_KE, MAX_SCENE_SIZE, MIN_SCENE_SIZE};
 pub use files::{allow_outside_materials, shown, shown_path, MAX_MTL_BYTES, MAX_OBJ_BYTES};
 pub use load::{load_obj, load_obj_with};
+pub use sky::SkyStats;
 pub use triangulate::triangulate;
 
 /// The material of faces that name none, or one no library defines: a neutral grey that does
@@ -335,7 +337,9 @@ impl Scene {
     /// The scene's own camera (its `# camera` line), or one that shows it: from inside a closed
     /// room, from outside an open scene (see `framing.rs`).
     pub fn camera_or_default(&self) -> Camera {
-        self.camera.unwrap_or_else(|| framing::default_camera(self))
+        // The sky (`--sky`) would make any scene a closed box to the framing: it frames the scene.
+        self.camera
+            .unwrap_or_else(|| framing::default_camera(&self.without_sky()))
     }
 }
 

@@ -66,8 +66,10 @@ impl Clusters {
     /// A scene of large polygons ([`AVERAGE_PATCHES`]) has none.
     pub fn new(scene: &Scene, layout: &PatchLayout, fine: u32, coarse: u32) -> Clusters {
         let n = scene.polygons.len();
-        let patches = layout.patch_count();
-        if coarse == 0 || n == 0 || patches as f64 / n as f64 > AVERAGE_PATCHES {
+        // The scene's own polygons decide: the sky (`--sky`) has one patch to a quad.
+        let own = scene.own_polygons().len();
+        let patches = layout.patch_count() - (n - own) as u64;
+        if coarse == 0 || own == 0 || patches as f64 / own as f64 > AVERAGE_PATCHES {
             return Clusters::none(n);
         }
         let fine = if fine == 0 || fine >= coarse {

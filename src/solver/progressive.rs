@@ -452,13 +452,24 @@ impl<'a, B: Backend> Solver<'a, B> {
     }
 
     /// Run to the stopping rule; `progress` sees every shot.
-    pub fn solve(&mut self, mut progress: impl FnMut(&ShotRecord)) -> Result<(), SolveError> {
-        self.solve_with(
+    pub fn solve(&mut self, progress: impl FnMut(&ShotRecord)) -> Result<(), SolveError> {
+        self.solve_until(progress, || false)
+    }
+
+    /// [`solve`](Self::solve), also stopped, between shots, when `stop` says so (an interrupt, a
+    /// time limit): the solution so far is then as good as any shot's.
+    pub fn solve_until(
+        &mut self,
+        mut progress: impl FnMut(&ShotRecord),
+        stop: impl FnMut() -> bool,
+    ) -> Result<(), SolveError> {
+        self.solve_with_until(
             |_| {},
             |_, record| {
                 progress(record);
                 Ok::<(), SolveError>(())
             },
+            stop,
         )
     }
 
@@ -467,11 +478,24 @@ impl<'a, B: Backend> Solver<'a, B> {
     /// (the history's seconds). An error from `after` stops the solve.
     pub fn solve_with<E: From<SolveError>>(
         &mut self,
+        before: impl FnMut(&Self),
+        after: impl FnMut(&Self, &ShotRecord) -> Result<(), E>,
+    ) -> Result<(), E> {
+        self.solve_with_until(before, after, || false)
+    }
+
+    /// [`solve_with`](Self::solve_with), also stopped between shots when `stop` says so.
+    pub fn solve_with_until<E: From<SolveError>>(
+        &mut self,
         mut before: impl FnMut(&Self),
         mut after: impl FnMut(&Self, &ShotRecord) -> Result<(), E>,
+        mut stop: impl FnMut() -> bool,
     ) -> Result<(), E> {
         self.ledger.restart_clock();
         loop {
+            if stop() {
+                return Ok(());
+            }
             let t = Instant::now();
             before(self);
             self.ledger.exclude_time(t.elapsed());

@@ -89,6 +89,7 @@ pub fn run(options: ViewOptions) -> Result<()> {
     let load = crate::scene::LoadOptions {
         emit: options.emit.clone(),
         keep_faces: options.keep_faces,
+        sky: options.sky,
     };
     let (scene, _) = crate::pipeline::load_scene_with(options.scene.as_deref(), &load)?;
     let event_loop = EventLoop::new().map_err(|e| {

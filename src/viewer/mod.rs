@@ -28,6 +28,8 @@ pub struct ViewOptions {
     pub scene: Option<PathBuf>,
     /// Emission overrides applied after loading (`--emit NAME=R,G,B`).
     pub emit: Vec<crate::scene::Emission>,
+    /// A uniform sky's radiance (`--sky R,G,B`).
+    pub sky: Option<glam::Vec3>,
     /// Keep every face its own polygon (`--keep-faces`).
     pub keep_faces: bool,
     /// The solver settings, as `solve --mode`.
