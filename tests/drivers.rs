@@ -19,7 +19,7 @@ const EXE: &str = env!("CARGO_BIN_EXE_radiosity");
 /// them): each GL path is still covered, by shadow-accurate and the probes. tests/golden.rs runs
 /// all cases on llvmpipe.
 const CASES: &str = "cornell-paper,box-paper,shadow-paper,shadow-accurate,ids-hemicube,\
-                     ids-hemisphere,shot-float-copy,shots-accumulate";
+                     ids-hemisphere,shot-float-copy,shots-accumulate,upload-order";
 
 fn lavapipe_installed() -> bool {
     std::fs::read_dir("/usr/share/vulkan/icd.d")

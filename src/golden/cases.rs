@@ -39,6 +39,8 @@ pub enum Probe {
         /// Shots made before the read-back.
         shots: u32,
     },
+    /// Host uploads into a texture that queued draws sample (`upload_order`).
+    UploadOrder,
 }
 
 /// The solve's mode of a case, as in `radiosity solve --mode`.
@@ -181,6 +183,12 @@ pub const CASES: &[Case] = &[
             shots: 3,
         },
     },
+    Case {
+        name: super::upload_order::NAME,
+        exercises: "glTexSubImage2D into a texture that queued draws sample, between syncs (the \
+                    walk's item-buffer uploads): each draw must see the upload issued before it",
+        probe: Probe::UploadOrder,
+    },
 ];
 
 fn load(scene: &str) -> Result<Scene> {
@@ -281,5 +289,6 @@ pub fn render(ctx: &GlContext, case: &Case) -> Result<Picture> {
                 metric: Metric::Radiance,
             })
         }
+        Probe::UploadOrder => super::upload_order::render(ctx),
     }
 }
