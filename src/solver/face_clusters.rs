@@ -1,8 +1,12 @@
 //! Beyond the paper, a first step towards shooting from clusters of non-coplanar faces (issue 58;
 //! face-cluster radiosity, Willmott, Heckbert & Garland 1999): a hierarchy over the small
 //! polygons of curved surfaces, each node a set of touching polygons whose normals stay within a
-//! cone. Not used by the loop yet; `/work/notes-open58.md` holds the design of the shot it is for
-//! and the measurements of where the conference room's and the living room's shots go.
+//! cone. Not used by the loop yet. The shot it is for: a small polygon picked by Find_Max_Energy
+//! shoots with the largest cluster around it whose [`misdirected`] power is within the shot's
+//! bound, as one `Shooter` (the members' summed energy, cleared before the passes and counted as
+//! carried in the books, as `clusters.rs`'s are), from the member nearest the power-weighted
+//! centre, along the mean normal, with the members' rectangle on that plane as the form factor's
+//! outline; by reciprocity it delivers no more than it carries, and only its direction errs.
 //!
 //! Why: `clusters.rs` groups only coplanar neighbours, so every facet of a column, a chair's seat
 //! or a vault shoots alone, with its own visibility pass. Neighbouring facets whose normals
