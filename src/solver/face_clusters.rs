@@ -1,0 +1,485 @@
+//! Beyond the paper, a first step towards shooting from clusters of non-coplanar faces (issue 58;
+//! face-cluster radiosity, Willmott, Heckbert & Garland 1999): a hierarchy over the small
+//! polygons of curved surfaces, each node a set of touching polygons whose normals stay within a
+//! cone. Not used by the loop yet. The shot it is for: a small polygon picked by Find_Max_Energy
+//! shoots with the largest cluster around it whose [`misdirected`] power is within the shot's
+//! bound, as one `Shooter` (the members' summed energy, cleared before the passes and counted as
+//! carried in the books, as `clusters.rs`'s are), from the member nearest the power-weighted
+//! centre, along the mean normal, with the members' rectangle on that plane as the form factor's
+//! outline; by reciprocity it delivers no more than it carries, and only its direction errs.
+//!
+//! Why: `clusters.rs` groups only coplanar neighbours, so every facet of a column, a chair's seat
+//! or a vault shoots alone, with its own visibility pass. Neighbouring facets whose normals
+//! differ by a few degrees would shoot nearly the same light from nearly the same place.
+//!
+//! How: bottom up, greedily, as Garland's dual-graph contraction does: every small polygon (at
+//! most `side` patches, not an emitter) is a leaf; the pair of touching clusters whose union has
+//! the narrowest cone (then the smallest extent) is merged first, as long as the union's cone
+//! half-angle is at most `max_cone` and its bounds fit a cube of `side` patches (the shooter
+//! cell a polygon's shot uses). Each node keeps its area-weighted normal sum, its cone and its
+//! power-free geometry, so that a shot can choose, polygon by polygon, the largest ancestor
+//! whose error bound ([`misdirected`]) it allows, and refine into the children when not.
+
+use crate::patches::PatchLayout;
+use crate::scene::Scene;
+use glam::Vec3;
+use std::cmp::Ordering;
+use std::collections::{BTreeMap, BinaryHeap};
+
+/// One cluster: a leaf (one polygon) or the union of two children.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Node {
+    /// The cluster it was merged into, if any.
+    pub parent: Option<u32>,
+    /// Its two children; `None` for a leaf.
+    pub children: Option<[u32; 2]>,
+    /// The polygon of a leaf.
+    pub polygon: Option<usize>,
+    /// Σ area × normal over its polygons: the direction it shoots along, and its length over
+    /// `area` says how flat it is.
+    pub normal_sum: Vec3,
+    /// Σ area.
+    pub area: f32,
+    /// Half-angle (radians) of a cone about `normal()` that holds every member's normal.
+    pub cone: f32,
+    /// The bounds of its polygons' corners.
+    pub lo: Vec3,
+    /// See `lo`.
+    pub hi: Vec3,
+    /// Σ patches.
+    pub patches: u32,
+    /// How many polygons.
+    pub size: u32,
+}
+
+impl Node {
+    /// The unit mean normal (area-weighted).
+    pub fn normal(&self) -> Vec3 {
+        self.normal_sum.normalize_or_zero()
+    }
+}
+
+/// The hierarchy: nodes `0..polygons` are not all leaves; a polygon's leaf is `leaf[p]`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FaceClusters {
+    nodes: Vec<Node>,
+    leaf: Vec<Option<u32>>,
+}
+
+/// A candidate merge, ordered so that the heap pops the narrowest cone, then the smallest extent,
+/// then the lowest node IDs (deterministic).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Candidate {
+    cone: f32,
+    extent: f32,
+    a: u32,
+    b: u32,
+}
+
+impl Eq for Candidate {}
+
+impl Ord for Candidate {
+    fn cmp(&self, other: &Self) -> Ordering {
+        // Reversed: BinaryHeap is a max-heap.
+        (other.cone.total_cmp(&self.cone))
+            .then(other.extent.total_cmp(&self.extent))
+            .then(other.a.cmp(&self.a))
+            .then(other.b.cmp(&self.b))
+    }
+}
+
+impl PartialOrd for Candidate {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+/// The power, of `power` shot by a cluster of cone half-angle `cone` from its mean plane, that
+/// may go in other directions than its members would send it: a member's cosine towards any
+/// receiver differs from the mean plane's by at most the sine of the angle between their normals.
+pub fn misdirected(cone: f32, power: f64) -> f64 {
+    power * (cone.min(std::f32::consts::FRAC_PI_2) as f64).sin()
+}
+
+impl FaceClusters {
+    /// The hierarchy over `scene`'s polygons of at most `side` patches (`layout`) that are not
+    /// emitters, merging touching clusters while the union's cone half-angle stays within
+    /// `max_cone` (radians) and its bounds within `side` patches on every axis.
+    pub fn new(scene: &Scene, layout: &PatchLayout, side: u32, max_cone: f32) -> FaceClusters {
+        let n = scene.polygons.len();
+        let mut clusters = FaceClusters {
+            nodes: Vec::new(),
+            leaf: vec![None; n],
+        };
+        let reach = side as f32 * layout.patch_size;
+        for (p, polygon) in scene.polygons.iter().enumerate() {
+            let count = layout.patches_per_polygon[p];
+            if count == 0 || count > side || scene.material(polygon).is_emitter() {
+                continue;
+            }
+            let (lo, hi) = (polygon.vertices.iter()).fold(
+                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+                |(lo, hi), &v| (lo.min(v), hi.max(v)),
+            );
+            clusters.leaf[p] = Some(clusters.nodes.len() as u32);
+            clusters.nodes.push(Node {
+                parent: None,
+                children: None,
+                polygon: Some(p),
+                normal_sum: polygon.normal * polygon.area,
+                area: polygon.area,
+                cone: 0.0,
+                lo,
+                hi,
+                patches: count,
+                size: 1,
+            });
+        }
+        let mut neighbours = clusters.touching(scene, layout.patch_size * 1e-3);
+        let mut heap = BinaryHeap::new();
+        for a in 0..clusters.nodes.len() as u32 {
+            for &b in &neighbours[a as usize] {
+                if a < b {
+                    clusters.consider(a, b, max_cone, reach, &mut heap);
+                }
+            }
+        }
+        while let Some(Candidate { a, b, .. }) = heap.pop() {
+            let (na, nb) = (&clusters.nodes[a as usize], &clusters.nodes[b as usize]);
+            if na.parent.is_some() || nb.parent.is_some() {
+                continue;
+            }
+            let c = clusters.nodes.len() as u32;
+            let union = merged(na, nb);
+            clusters.nodes[a as usize].parent = Some(c);
+            clusters.nodes[b as usize].parent = Some(c);
+            clusters.nodes.push(Node {
+                children: Some([a, b]),
+                ..union
+            });
+            // The union's neighbours: the children's, less the children.
+            let mut around: Vec<u32> = (neighbours[a as usize].iter())
+                .chain(&neighbours[b as usize])
+                .copied()
+                .filter(|&x| x != a && x != b)
+                .collect();
+            around.sort_unstable();
+            around.dedup();
+            for &x in &around {
+                let list = &mut neighbours[x as usize];
+                list.retain(|&y| y != a && y != b);
+                list.push(c);
+                clusters.consider(c, x, max_cone, reach, &mut heap);
+            }
+            neighbours.push(around);
+        }
+        clusters
+    }
+
+    /// Queue the merge of roots `a` and `b` if their union is within the bounds.
+    fn consider(
+        &self,
+        a: u32,
+        b: u32,
+        max_cone: f32,
+        reach: f32,
+        heap: &mut BinaryHeap<Candidate>,
+    ) {
+        let union = merged(&self.nodes[a as usize], &self.nodes[b as usize]);
+        let extent = (union.hi - union.lo).max_element();
+        if union.cone <= max_cone && extent <= reach {
+            heap.push(Candidate {
+                cone: union.cone,
+                extent,
+                a,
+                b,
+            });
+        }
+    }
+
+    /// Per leaf, the leaves whose polygons share a corner with its own (within `tolerance`),
+    /// ascending.
+    fn touching(&self, scene: &Scene, tolerance: f32) -> Vec<Vec<u32>> {
+        let mut at: BTreeMap<[i64; 3], Vec<u32>> = BTreeMap::new();
+        for (i, node) in self.nodes.iter().enumerate() {
+            let p = node.polygon.expect("leaves only");
+            for x in &scene.polygons[p].vertices {
+                let key = (*x / tolerance).round().to_array().map(|v| v as i64);
+                at.entry(key).or_default().push(i as u32);
+            }
+        }
+        let mut neighbours = vec![Vec::new(); self.nodes.len()];
+        for mut list in at.into_values() {
+            list.sort_unstable();
+            list.dedup();
+            // A fan of many faces around one corner (a pole) is joined as a chain: it stays
+            // connected without a pair for every two of its faces.
+            if list.len() > 16 {
+                for w in list.windows(2) {
+                    neighbours[w[0] as usize].push(w[1]);
+                    neighbours[w[1] as usize].push(w[0]);
+                }
+                continue;
+            }
+            for (k, &a) in list.iter().enumerate() {
+                for &b in &list[k + 1..] {
+                    neighbours[a as usize].push(b);
+                    neighbours[b as usize].push(a);
+                }
+            }
+        }
+        for list in &mut neighbours {
+            list.sort_unstable();
+            list.dedup();
+        }
+        neighbours
+    }
+
+    /// Every node, leaves first.
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// Polygon `p`'s leaf, if it is in the hierarchy.
+    pub fn leaf_of(&self, p: usize) -> Option<u32> {
+        self.leaf.get(p).copied().flatten()
+    }
+
+    /// The polygons of node `node`, ascending.
+    pub fn members(&self, node: u32) -> Vec<usize> {
+        let mut out = Vec::new();
+        let mut stack = vec![node];
+        while let Some(k) = stack.pop() {
+            let n = &self.nodes[k as usize];
+            match (n.children, n.polygon) {
+                (Some([a, b]), _) => stack.extend([a, b]),
+                (None, Some(p)) => out.push(p),
+                (None, None) => {}
+            }
+        }
+        out.sort_unstable();
+        out
+    }
+
+    /// The largest cluster of two or more polygons that holds `p` and that `allows` (with every
+    /// smaller one on the way up from `p`'s leaf): the node a shot of `p` would shoot, or `None`
+    /// when `p` should shoot alone. `allows` should grow stricter up the tree (a larger cluster
+    /// carries more power and has a wider cone, as [`misdirected`] does).
+    pub fn shooting_cluster(&self, p: usize, allows: impl Fn(&Node) -> bool) -> Option<u32> {
+        let mut at = self.leaf_of(p)?;
+        let mut best = None;
+        while let Some(up) = self.nodes[at as usize].parent {
+            if !allows(&self.nodes[up as usize]) {
+                break;
+            }
+            best = Some(up);
+            at = up;
+        }
+        best
+    }
+
+    /// Clusters of two or more polygons that were merged into nothing larger (the roots).
+    pub fn roots(&self) -> impl Iterator<Item = u32> + '_ {
+        (self.nodes.iter().enumerate())
+            .filter(|(_, n)| n.parent.is_none() && n.children.is_some())
+            .map(|(i, _)| i as u32)
+    }
+}
+
+/// The union of two clusters: normal sums and areas added, bounds joined, and a cone about the
+/// union's mean normal that holds both children's cones (a bound: each child's normals lie within
+/// its cone about its own mean).
+fn merged(a: &Node, b: &Node) -> Node {
+    let normal_sum = a.normal_sum + b.normal_sum;
+    let mean = normal_sum.normalize_or_zero();
+    let spread = |n: &Node| {
+        if mean == Vec3::ZERO {
+            return std::f32::consts::PI;
+        }
+        angle(n.normal(), mean) + n.cone
+    };
+    Node {
+        parent: None,
+        children: None,
+        polygon: None,
+        normal_sum,
+        area: a.area + b.area,
+        cone: spread(a).max(spread(b)),
+        lo: a.lo.min(b.lo),
+        hi: a.hi.max(b.hi),
+        patches: a.patches + b.patches,
+        size: a.size + b.size,
+    }
+}
+
+/// The angle between unit vectors `a` and `b`, accurate near 0 (an `acos` of a float dot product
+/// reads 3e-4 rad for parallel normals, and the cones of a flat floor's clusters would grow with
+/// every merge).
+fn angle(a: Vec3, b: Vec3) -> f32 {
+    a.cross(b).length().atan2(a.dot(b))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::patches::{PatchLayout, Resolution};
+    use crate::scene::{test_scene, Material, Polygon};
+
+    /// A cylinder of radius 1 about Y, `around` facets round and `rows` rows of height `h`,
+    /// facing out, then its top cap of `around` triangles.
+    fn cylinder(around: usize, rows: usize, h: f32) -> Vec<Polygon> {
+        let at = |k: usize, y: f32| {
+            let a = std::f32::consts::TAU * (k % around) as f32 / around as f32;
+            Vec3::new(a.cos(), y, -a.sin())
+        };
+        let mut polygons = Vec::new();
+        for r in 0..rows {
+            let (y0, y1) = (r as f32 * h, (r + 1) as f32 * h);
+            for k in 0..around {
+                let quad = vec![at(k, y0), at(k + 1, y0), at(k + 1, y1), at(k, y1)];
+                polygons.push(Polygon::new(quad, 0, "column".into()).unwrap());
+            }
+        }
+        let top = rows as f32 * h;
+        for k in 0..around {
+            let tri = vec![Vec3::new(0.0, top, 0.0), at(k, top), at(k + 1, top)];
+            polygons.push(Polygon::new(tri, 0, "cap".into()).unwrap());
+        }
+        polygons
+    }
+
+    /// Every node's cone holds its members' normals, its members touch (the node is connected),
+    /// its bounds fit `reach`, and its counts add up.
+    fn check(scene: &Scene, c: &FaceClusters, max_cone: f32, reach: f32) {
+        for (i, node) in c.nodes().iter().enumerate() {
+            let members = c.members(i as u32);
+            assert_eq!(members.len() as u32, node.size);
+            assert!(node.cone <= max_cone + 1e-6, "{}", node.cone);
+            assert!((node.hi - node.lo).max_element() <= reach + 1e-5);
+            for &p in &members {
+                let n = scene.polygons[p].normal;
+                assert!(angle(n, node.normal()) <= node.cone + 1e-4, "{p} in {i}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_faceted_column_clusters_within_its_cone_and_never_over_its_rim() {
+        // 48 facets round (7.5° apart), 16 rows, faces of about 0.13 × 0.125.
+        let scene = test_scene(cylinder(48, 16, 0.125));
+        let layout = PatchLayout::new(&scene, Resolution::PatchSize(0.2));
+        let max_cone = 20f32.to_radians();
+        let side = 8;
+        let c = FaceClusters::new(&scene, &layout, side, max_cone);
+        check(&scene, &c, max_cone, side as f32 * 0.2);
+        let roots: Vec<u32> = c.roots().collect();
+        assert!(!roots.is_empty());
+        // No cluster holds both a side facet and a cap triangle (90° apart).
+        for &r in &roots {
+            let members = c.members(r);
+            let caps = members.iter().filter(|&&p| p >= 48 * 16).count();
+            assert!(caps == 0 || caps == members.len(), "{members:?}");
+        }
+        // The side facets form clusters several facets round and several rows high: far fewer
+        // shooters than facets.
+        let side_roots = roots.iter().filter(|&&r| c.members(r)[0] < 48 * 16).count();
+        assert!(side_roots * 8 <= 48 * 16, "{side_roots} clusters");
+        let widest = (roots.iter().map(|&r| c.nodes()[r as usize].size)).max();
+        assert!(widest >= Some(12), "{widest:?}");
+    }
+
+    #[test]
+    fn a_flat_floor_clusters_with_no_cone_and_a_fold_splits() {
+        // Tiles of 1 × 1 on the floor (y = 0) and on a wall (x = 0) standing on its edge.
+        let tile = |o: Vec3, u: Vec3, v: Vec3| {
+            Polygon::new(vec![o, o + u, o + u + v, o + v], 0, "tile".into()).unwrap()
+        };
+        let mut polygons = Vec::new();
+        for i in 0..4 {
+            for j in 0..4 {
+                let (x, z) = (i as f32, j as f32);
+                polygons.push(tile(Vec3::new(x, 0.0, z), Vec3::Z, Vec3::X));
+                polygons.push(tile(Vec3::new(0.0, x, z), Vec3::Y, Vec3::Z));
+            }
+        }
+        let scene = test_scene(polygons);
+        let layout = PatchLayout::new(&scene, Resolution::PatchSize(1.0));
+        let c = FaceClusters::new(&scene, &layout, 8, 20f32.to_radians());
+        check(&scene, &c, 20f32.to_radians(), 8.0);
+        let roots: Vec<u32> = c.roots().collect();
+        assert_eq!(roots.len(), 2, "the floor and the wall");
+        for &r in &roots {
+            assert_eq!(c.nodes()[r as usize].size, 16);
+            assert!(c.nodes()[r as usize].cone < 1e-6);
+        }
+    }
+
+    #[test]
+    fn emitters_large_polygons_and_strangers_are_left_out() {
+        let mut polygons = cylinder(24, 2, 0.25);
+        // A far quad touching nothing.
+        polygons.push(
+            Polygon::new(
+                vec![
+                    Vec3::new(5.0, 0.0, 5.0),
+                    Vec3::new(5.0, 0.0, 5.2),
+                    Vec3::new(5.2, 0.0, 5.2),
+                    Vec3::new(5.2, 0.0, 5.0),
+                ],
+                0,
+                "alone".into(),
+            )
+            .unwrap(),
+        );
+        let mut scene = test_scene(polygons);
+        scene.materials.push(Material {
+            name: "lamp".into(),
+            kd: Vec3::ZERO,
+            ke: Vec3::ONE,
+        });
+        scene.polygons[0].material = 1;
+        let layout = PatchLayout::new(&scene, Resolution::PatchSize(0.25));
+        let c = FaceClusters::new(&scene, &layout, 4, 30f32.to_radians());
+        assert_eq!(c.leaf_of(0), None, "an emitter");
+        let alone = scene.polygons.len() - 1;
+        let leaf = c.leaf_of(alone).unwrap();
+        assert_eq!(c.nodes()[leaf as usize].parent, None);
+        assert_eq!(c.shooting_cluster(alone, |_| true), None);
+        // With side 1, only polygons of one patch are leaves: the column's facets (0.26 × 0.25)
+        // are, the caps' triangles too; nothing larger than a patch.
+        let one = FaceClusters::new(&scene, &layout, 1, 30f32.to_radians());
+        for (p, &k) in layout.patches_per_polygon.iter().enumerate() {
+            assert_eq!(
+                one.leaf_of(p).is_some(),
+                k == 1 && p != 0,
+                "{p}: {k} patches"
+            );
+        }
+        // The same scene gives the same hierarchy.
+        assert_eq!(FaceClusters::new(&scene, &layout, 4, 30f32.to_radians()), c);
+    }
+
+    #[test]
+    fn a_shot_takes_the_largest_cluster_its_bound_allows() {
+        let scene = test_scene(cylinder(48, 16, 0.125));
+        let layout = PatchLayout::new(&scene, Resolution::PatchSize(0.2));
+        let c = FaceClusters::new(&scene, &layout, 8, 20f32.to_radians());
+        let p = 100;
+        let all = c.shooting_cluster(p, |_| true).unwrap();
+        assert_eq!(c.nodes()[all as usize].parent, None);
+        assert!(c.members(all).contains(&p));
+        assert_eq!(c.shooting_cluster(p, |_| false), None);
+        // A bound on what may go astray: a shot of power 1 allows 0.1 misdirected; the node is
+        // the largest within it, and its parent is not.
+        let allows = |n: &Node| misdirected(n.cone, 1.0) <= 0.1;
+        let node = c.shooting_cluster(p, allows).unwrap();
+        assert!(allows(&c.nodes()[node as usize]));
+        if let Some(up) = c.nodes()[node as usize].parent {
+            assert!(!allows(&c.nodes()[up as usize]));
+        }
+        assert!(c.members(node).contains(&p) && c.members(node).len() >= 2);
+        // Misdirected power grows with the cone.
+        assert_eq!(misdirected(0.0, 1.0), 0.0);
+        assert!(misdirected(0.2, 1.0) > misdirected(0.1, 1.0));
+    }
+}
