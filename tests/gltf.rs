@@ -134,6 +134,7 @@ fn refused(path: &Path, needles: &[&str]) {
     assert!(!err.contains("panicked"), "{err}");
     let errors: Vec<&str> = err.lines().filter(|l| l.starts_with("error")).collect();
     assert_eq!(errors.len(), 1, "{err}");
+    eprintln!("{}", errors[0]);
     let file = path.file_name().unwrap().to_string_lossy();
     for n in needles.iter().chain([&file.as_ref()]) {
         assert!(

@@ -364,7 +364,8 @@ fn read_materials(
         let kd = Vec3::new(f[0], f[1], f[2]) * mean(pbr.base_color_texture()).map_err(at)?;
         if !(kd.is_finite() && kd.min_element() >= 0.0) {
             return Err(at(format!(
-                "baseColorFactor {kd} is not three numbers from 0 to 1"
+                "baseColorFactor {:?} is not three numbers from 0 to 1",
+                kd.to_array()
             )));
         }
         if kd.max_element() > 1.0 {
@@ -378,8 +379,9 @@ fn read_materials(
             Vec3::from(m.emissive_factor()) * strength * mean(m.emissive_texture()).map_err(at)?;
         if !(ke.is_finite() && ke.min_element() >= 0.0 && ke.max_element() <= MAX_KE) {
             return Err(at(format!(
-                "the emitted radiance (emissiveFactor × emissive strength) {ke} is not three \
-                 numbers from 0 to {MAX_KE:e}"
+                "the emitted radiance (emissiveFactor × emissive strength) {:?} is not three \
+                 numbers from 0 to {MAX_KE:e}",
+                ke.to_array()
             )));
         }
         list.push(Material {
