@@ -165,8 +165,8 @@ impl Buffers {
         let n = (decoded.width() as f64 * decoded.height() as f64).max(1.0);
         let mut sum = [0f64; 3];
         for px in decoded.pixels() {
-            for c in 0..3 {
-                sum[c] += srgb_decode(px.0[c]) as f64;
+            for (s, &v) in sum.iter_mut().zip(&px.0) {
+                *s += srgb_decode(v) as f64;
             }
         }
         Ok(sum.map(|s| (s / n) as f32))
