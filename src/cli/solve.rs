@@ -217,6 +217,10 @@ pub struct SolveArgs {
     /// Write convergence.png: unshot fraction against shot and against time, log scale.
     #[arg(long)]
     pub plot: bool,
+    /// Also write the solved scene as glTF 2.0 into the output directory: NAME.glb, or
+    /// NAME.gltf with NAME.bin and NAME.png (unlit, the lightmap as its texture; docs/usage.md).
+    #[arg(long, value_name = "NAME.glb|NAME.gltf", value_parser = display::gltf_out::file_name)]
+    pub gltf: Option<String>,
 }
 
 impl SolveArgs {
@@ -407,6 +411,11 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     }
     stats.max_seconds = args.max_seconds.map(f64::from);
     pipeline::write_outputs(&set, &image, args.exposure, &layout, &solution, &stats)?;
+    if let Some(name) = &args.gltf {
+        write_gltf(
+            &set, name, &ctx, &scene, &layout, &atlas, &smoothing, args, camera,
+        )?;
+    }
     if args.plot {
         let title = format!("{} ({:?} mode)", scene.name, args.mode).to_lowercase();
         display::plot::write_convergence(&set, &stats.history, args.threshold(), &title)?;
@@ -417,6 +426,34 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         eprintln!("{}", super::stopping::said(why, &solution));
     }
     Ok(SolveOutcome { stats, out_dir })
+}
+
+/// `--gltf NAME`: the solved scene as glTF, staged with the other outputs.
+#[allow(clippy::too_many_arguments)]
+fn write_gltf(
+    set: &OutputSet,
+    name: &str,
+    ctx: &GlContext,
+    scene: &Scene,
+    layout: &PatchLayout,
+    atlas: &[f32],
+    smoothing: &display::Smoothing,
+    args: &SolveArgs,
+    camera: Camera,
+) -> Result<()> {
+    let baked = display::bake::bake_smoothing(ctx, scene, layout, atlas, smoothing)?;
+    let export = display::gltf_out::Export {
+        scene,
+        layout,
+        atlas: &baked,
+        camera,
+        aspect: args.size.0 as f32 / args.size.1 as f32,
+        exposure: args.exposure,
+    };
+    for (file, bytes) in display::gltf_out::encode(&export, name)? {
+        set.write(&file, display::output::Payload::Bytes(&bytes))?;
+    }
+    Ok(())
 }
 
 /// The output folder (`--out`, or out/SCENE), created.

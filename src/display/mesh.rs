@@ -8,6 +8,7 @@ use crate::gl::{Gl, GlError, Mesh, Texture, TextureFormat};
 use crate::patches::PatchLayout;
 use crate::scene::{triangulate, Scene};
 use crate::solver::mesh::{LIGHTMAP_UV, POLYGON_ID, POSITION};
+use glam::{Vec2, Vec3};
 
 /// The smooth-edge range's attribute location (the others are the solver mesh's).
 pub const SMOOTH_EDGE_RANGE: u32 = 6;
@@ -54,6 +55,23 @@ impl DisplayMesh {
                 }
             }
         }
+        Self::with_data(gl, &data, smoothing)
+    }
+
+    /// Triangles given as three corners each, with their texture coordinates, drawn without
+    /// smooth edges: a mesh from elsewhere (a glTF file this program wrote, tests/gltf_export.rs)
+    /// through the same pass.
+    pub fn from_triangles(gl: &Gl, corners: &[Vec3], uvs: &[Vec2]) -> Result<DisplayMesh, GlError> {
+        let mut data = Vec::with_capacity(corners.len() * FLOATS);
+        for (v, uv) in corners.iter().zip(uvs) {
+            data.extend_from_slice(&v.to_array());
+            data.extend_from_slice(&uv.to_array());
+            data.extend_from_slice(&[0.0, 0.0, 0.0]);
+        }
+        Self::with_data(gl, &data, Smoothing::none())
+    }
+
+    fn with_data(gl: &Gl, data: &[f32], smoothing: Smoothing) -> Result<DisplayMesh, GlError> {
         let a = |location, size, offset| Attribute {
             location,
             size,
@@ -61,7 +79,7 @@ impl DisplayMesh {
         };
         let mesh = Mesh::new(
             gl,
-            &data,
+            data,
             FLOATS as i32,
             &[
                 a(POSITION, 3, 0),

@@ -3,6 +3,8 @@
 //! written as images.
 
 pub mod ambient;
+pub mod bake;
+pub mod gltf_out;
 pub mod mesh;
 pub mod output;
 pub mod output_set;

@@ -38,6 +38,8 @@ pub enum Payload<'a> {
     },
     /// UTF-8 text (JSON, reports), written as it is.
     Text(String),
+    /// Bytes encoded elsewhere (`gltf_out`), written as they are.
+    Bytes(&'a [u8]),
 }
 
 impl Payload<'_> {
@@ -61,6 +63,7 @@ impl Payload<'_> {
                     .context("PNG encoder failed")
             }
             Payload::Text(text) => Ok(w.write_all(text.as_bytes())?),
+            Payload::Bytes(bytes) => Ok(w.write_all(bytes)?),
         }
     }
 }

@@ -137,6 +137,22 @@ impl Smoothing {
         smoothing
     }
 
+    /// No smooth edges, for triangles that are not a scene's polygons
+    /// ([`super::DisplayMesh::from_triangles`]).
+    pub fn none() -> Smoothing {
+        Smoothing {
+            angle: 0.0,
+            first: vec![0],
+            texel: Vec::new(),
+            share: Vec::new(),
+            lit: Vec::new(),
+            starts: vec![0],
+            members: Vec::new(),
+            edges: Vec::new(),
+            ranges: Vec::new(),
+        }
+    }
+
     /// The crease angle, degrees.
     pub fn angle(&self) -> f32 {
         self.angle

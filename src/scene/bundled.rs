@@ -107,7 +107,7 @@ pub fn load_or_default(
     options: &LoadOptions,
 ) -> Result<(Scene, PathBuf), SceneError> {
     match path {
-        Some(p) => Ok((super::load_obj_with(p, options)?, p.to_path_buf())),
+        Some(p) => Ok((super::load_file_with(p, options)?, p.to_path_buf())),
         None => Ok((cornell().load_with(options)?, cornell().path())),
     }
 }

@@ -63,6 +63,15 @@ impl MaterialFiles for Folder<'_> {
     }
 }
 
+/// The rule of [`Folder::read`] for any other file a scene names (a glTF file's buffers and
+/// images): inside `dir` unless `--allow-outside-materials` is given.
+pub(super) fn confined_file(dir: &Path, file: &Path) -> std::io::Result<()> {
+    if ALLOW_OUTSIDE_MATERIALS.load(Ordering::Relaxed) {
+        return Ok(());
+    }
+    confined(dir, file)
+}
+
 /// Refuse `file` unless it resolves (symbolic links followed) inside `dir`.
 fn confined(dir: &Path, file: &Path) -> std::io::Result<()> {
     let (d, f) = (dir.canonicalize()?, file.canonicalize()?);

@@ -5,9 +5,9 @@ use super::emission::LoadOptions;
 use super::error::{SceneError, MAX_SCENE_SIZE, MIN_SCENE_SIZE};
 use super::files::{decode, read_regular, shown, shown_path, Folder, MaterialFiles, MAX_OBJ_BYTES};
 use super::header::parse_header;
-use super::libraries::load_libraries;
+use super::libraries::{load_libraries, Materials};
 use super::obj::{parse_obj, ObjFile};
-use super::{Polygon, Scene};
+use super::{Camera, Polygon, Scene};
 use glam::Vec3;
 use std::path::Path;
 
@@ -39,14 +39,54 @@ pub(super) fn parse_scene(
     files: &dyn MaterialFiles,
     options: &LoadOptions,
 ) -> Result<Scene, SceneError> {
-    let shown_name = shown_path(path);
     let header = parse_header(path, text)?;
     let obj = parse_obj(path, text)?;
     let mut messages = Vec::new();
     if let Some(s) = obj.skipped.summary() {
-        messages.push(format!("note: {shown_name}: {s}"));
+        messages.push(format!("note: {}: {s}", shown_path(path)));
     }
     let materials = load_libraries(path, &obj, files, &mut messages)?;
+    let parsed = Parsed {
+        obj,
+        materials,
+        camera: header.camera,
+        patch_size: header.patch_size,
+        keep_faces: header.keep_faces,
+        messages,
+    };
+    build_scene(path, parsed, files.built_in(), options)
+}
+
+/// What a reader (OBJ here, glTF in `gltf.rs`) hands on to [`build_scene`]: faces indexing
+/// positions, with their material and object, and what the file says besides.
+pub(super) struct Parsed {
+    pub obj: ObjFile,
+    pub materials: Materials,
+    pub camera: Option<Camera>,
+    pub patch_size: Option<f32>,
+    pub keep_faces: bool,
+    /// Warnings and notes so far, printed with the builder's own.
+    pub messages: Vec<String>,
+}
+
+/// The scene of `parsed`, whichever format it was read from: polygons built (non-planar ones
+/// split, zero-area ones skipped), duplicates dropped, coplanar faces merged, and the same
+/// checks (scale, emission). `built_in`: notes are not repeated for the scenes built in.
+pub(super) fn build_scene(
+    path: &Path,
+    parsed: Parsed,
+    built_in: bool,
+    options: &LoadOptions,
+) -> Result<Scene, SceneError> {
+    let shown_name = shown_path(path);
+    let Parsed {
+        obj,
+        materials,
+        camera,
+        patch_size,
+        keep_faces,
+        mut messages,
+    } = parsed;
     check_scale(&shown_name, &obj)?;
     let default = materials.list.len() - 1;
     let built = build_polygons(&obj, |m| {
@@ -75,7 +115,7 @@ pub(super) fn parse_scene(
         ));
     }
     let faces = polygons.len();
-    if !(options.keep_faces || header.keep_faces) {
+    if !(options.keep_faces || keep_faces) {
         let size = scene_size(&polygons);
         let report = super::merge::merge_coplanar(&mut polygons, size);
         if report.polygons < report.faces {
@@ -90,7 +130,7 @@ pub(super) fn parse_scene(
         messages.push(m);
     }
     for m in &messages {
-        if !(files.built_in() && m.starts_with("note:")) {
+        if !(built_in && m.starts_with("note:")) {
             eprintln!("{m}");
         }
     }
@@ -105,8 +145,8 @@ pub(super) fn parse_scene(
         polygons,
         materials: materials.list,
         vertex_count: obj.positions.len(),
-        camera: header.camera,
-        patch_size: header.patch_size,
+        camera,
+        patch_size,
         skipped_degenerate: built.skipped,
         faces,
     };

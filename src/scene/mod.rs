@@ -7,6 +7,8 @@ mod emission;
 mod error;
 mod files;
 mod framing;
+mod gltf;
+mod gltf_data;
 mod header;
 mod libraries;
 mod load;
@@ -22,9 +24,20 @@ mod triangulate;
 pub use emission::{Emission, LoadOptions};
 pub use error::{EmissionError, SceneError, MAX_KE, MAX_SCENE_SIZE, MIN_SCENE_SIZE};
 pub use files::{allow_outside_materials, shown, shown_path, MAX_MTL_BYTES, MAX_OBJ_BYTES};
+pub use gltf::{load_gltf, load_gltf_with};
 pub use load::{load_obj, load_obj_with};
 pub use sky::SkyStats;
 pub use triangulate::triangulate;
+
+/// The scene in `path`: a glTF file (`.glb`, `.gltf`, by its extension, see `gltf.rs`) or an
+/// OBJ file with its MTL libraries from the same folder.
+pub fn load_file_with(path: &std::path::Path, options: &LoadOptions) -> Result<Scene, SceneError> {
+    if gltf::is_gltf(path) {
+        gltf::load_gltf_with(path, options)
+    } else {
+        load::load_obj_with(path, options)
+    }
+}
 
 /// The material of faces that name none, or one no library defines: a neutral grey that does
 /// not emit.

@@ -1,6 +1,8 @@
 //! Independent CPU geometry for the GPU tests: ray casting against the scene's polygons.
 #![allow(dead_code)]
 
+pub mod gltf_room;
+
 use glam::{Vec2, Vec3};
 use gpu_radiosity::geometry::{flatten, point_in_polygon};
 use gpu_radiosity::gl::{BackendChoice, GlContext};
