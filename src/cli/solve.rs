@@ -21,7 +21,8 @@ use std::path::{Path, PathBuf};
 /// `radiosity solve`'s flags (`view` shares most of them).
 #[derive(clap::Args, Debug, Clone)]
 pub struct SolveArgs {
-    /// OBJ scene (with its MTL); default: the Cornell box built into the binary.
+    /// OBJ scene (with its MTL) or glTF scene (.glb, .gltf); default: the Cornell box built into
+    /// the binary.
     pub scene: Option<PathBuf>,
     /// Output directory; default: out/SCENE_NAME/.
     #[arg(long)]

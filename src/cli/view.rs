@@ -10,7 +10,8 @@ use std::path::PathBuf;
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct ViewArgs {
-    /// OBJ scene (with its MTL); default: the Cornell box built into the binary.
+    /// OBJ scene (with its MTL) or glTF scene (.glb, .gltf); default: the Cornell box built into
+    /// the binary.
     pub scene: Option<PathBuf>,
     /// `paper` or `accurate`, as for `solve` (switch in the window with M).
     #[arg(long, value_enum, default_value_t = Mode::Accurate)]
