@@ -237,5 +237,9 @@ mod tests {
         assert!(t.walks(16) && t.walks(super::super::tuning::WALK_UP_TO));
         assert!(!t.walks(128) && !t.walks(256));
         assert!(!t.drawing().walks(16));
+        // Nor does it leave hidden polygons out of the large ones it draws; drawn at every side,
+        // it does, at every side.
+        assert!(t.walks_hidden(64) && !t.walks_hidden(128));
+        assert!(t.drawing().walks_hidden(256));
     }
 }

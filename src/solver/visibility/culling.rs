@@ -325,9 +325,11 @@ impl Culling {
         plates: &Plates,
         res: i32,
     ) {
-        let hidden = self.tuning.cull_hidden && self.kind == VisibilityKind::Hemicube;
-        // The walk writes the item buffer only at the sides where it pays (`Tuning::walk_up_to`).
-        let write = hidden && self.tuning.walks(res.max(1) as u32);
+        // The hidden-polygon walk, and the item buffer it writes, only at the sides where it
+        // pays (`Tuning::walk_up_to`).
+        let side = res.max(1) as u32;
+        let hidden = self.tuning.walks_hidden(side) && self.kind == VisibilityKind::Hemicube;
+        let write = hidden && self.tuning.walks(side);
         if !write {
             self.find_in_front(lists, shooter, view, plates);
         }
