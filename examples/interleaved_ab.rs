@@ -9,7 +9,8 @@
 //! `base` (none), `paper` (the paper-faithful row's options), `accurate` (`radiosity solve`'s
 //! default mode), `kN` (N shooters per pass),
 //! `no-overshoot`, `small=N` (the small shots' item-buffer side), `min=N` (the smallest shots'
-//! side, `SolveOptions::min_hemi_res`), `mark=N` (`Tuning::marking_below`), or `-SWITCH` to
+//! side, `SolveOptions::min_hemi_res`), `mark=N` (`Tuning::marking_below`), `walk=N`
+//! (`Tuning::walk_up_to`, 0: the walk at every side), `gpu` (the GPU profile), or `-SWITCH` to
 //! turn off one `Tuning` switch (`-marking_pass`, `-plates`, …; `+receivers_only` turns that
 //! one on). The last line says whether the two ended with the same lightmaps.
 //! Switches of `Tuning` leave the answer as it is, so both solvers take the same shots; options
@@ -47,12 +48,19 @@ fn configuration(changes: &str) -> SolveOptions {
             min if min.starts_with("min=") => {
                 o.min_hemi_res = min[4..].parse().expect("min=N: a resolution")
             }
+            walk if walk.starts_with("walk=") => {
+                t.walk_up_to = walk[5..].parse().expect("walk=N: a side (0: every side)")
+            }
+            "gpu" => *t = gpu_radiosity::solver::Tuning::gpu(),
             mark if mark.starts_with("mark=") => {
                 t.marking_below = mark[5..].parse().expect("mark=N: a percentage")
             }
             "-receivers_only" => t.receivers_only = false,
             "+receivers_only" => t.receivers_only = true,
-            "-marking_pass" => t.marking_pass = false,
+            "-marking_pass" => {
+                t.marking_pass = false;
+                t.few_shooter_programs = false;
+            }
             "-skip_needless_clipping" => t.skip_needless_clipping = false,
             "-unroll_quads" => t.unroll_quads = false,
             "-compile_choices" => t.compile_choices = false,
@@ -64,8 +72,11 @@ fn configuration(changes: &str) -> SolveOptions {
             "-plates" => t.plates = false,
             "-cull_solids" => t.cull_solids = false,
             "-cull_between_samples" => t.cull_between_samples = false,
-            "-cull_hidden" => t.cull_hidden = false,
-            "-walk_item_buffers" => t.walk_item_buffers = false,
+            "-cull_hidden" => {
+                *t = t.drawing();
+                t.cull_hidden = false;
+            }
+            "-walk_item_buffers" => *t = t.drawing(),
             "-flush_visibility" => t.flush_visibility = false,
             other => panic!("unknown change '{other}' (see the file's comment)"),
         }

@@ -27,8 +27,8 @@ use crate::gl::{limits, GlContext, GlError, GlInfo, LimitError};
 use crate::patches::{LayoutError, PatchLayout, Resolution};
 use crate::scene::{bundled, Camera, Emission, LoadOptions, Scene, SceneError, SkyStats};
 use crate::solver::{
-    visibility, Backend, CpuSolver, GpuSolver, PassTimes, ShotRecord, SolveError, SolveOptions,
-    Solver, VisibilityKind,
+    visibility, Backend, ChosenTuning, CpuSolver, GpuSolver, PassTimes, ShotRecord, SolveError,
+    SolveOptions, Solver, VisibilityKind,
 };
 use glam::Vec3;
 use std::path::{Path, PathBuf};
@@ -463,6 +463,12 @@ pub struct Stats {
     pub gl_renderer: String,
     /// GL_VERSION.
     pub gl_version: String,
+    /// The tuning profile that ran (`paper`, `llvmpipe`, `gpu`; `none` for the CPU solver):
+    /// `--tuning`, resolved by renderer (`solver::profile`). Its switches are in
+    /// `tuning_switches`.
+    pub tuning: &'static str,
+    /// Why that profile (e.g. `auto: renderer '…' is Mesa's software rasteriser`).
+    pub tuning_reason: String,
     /// threshold, max_shots and the pass settings.
     #[serde(flatten)]
     pub options: SolveOptions,
@@ -557,6 +563,8 @@ pub struct Run<'a> {
     pub mode: Mode,
     /// The settings the solve used.
     pub options: SolveOptions,
+    /// The tuning profile they carry, and why (`--tuning`).
+    pub tuning: &'a ChosenTuning,
     /// The emission overrides the scene was loaded with.
     pub emit: &'a [Emission],
     /// The GL driver (also for the CPU solver, which renders the images on it).
@@ -591,6 +599,8 @@ impl Stats {
             gl_vendor: run.gl.vendor.clone(),
             gl_renderer: run.gl.renderer.clone(),
             gl_version: run.gl.version.clone(),
+            tuning: run.tuning.name(),
+            tuning_reason: run.tuning.reason.clone(),
             options: run.options,
             emit: run.emit.to_vec(),
             sky,

@@ -68,6 +68,8 @@ enum Event {
     Read { texture: u32 },
     /// glTexSubImage2D into `texture` (the item buffer the walk wrote, `Tuning::walk_item_buffers`).
     Upload { texture: u32 },
+    /// glClearBufferfv of a colour buffer of `fbo` (a visibility pass clears its item buffer).
+    Clear { fbo: u32 },
 }
 
 struct Trace {
@@ -133,6 +135,15 @@ fn read_trace(dump: &str) -> Trace {
                 t.renderbuffer_fbos.insert(draw_fbo);
             }
             "glEnable" | "glDisable" if a.contains("GL_BLEND") => blend = c.name == "glEnable",
+            // Only the item buffers' clears (their FBOs are set up before any pass runs): the
+            // clusters' clears of the unshot renderbuffer belong to the shot around them.
+            "glClearBufferfv"
+                if a.contains("GL_COLOR")
+                    && t.texture_fbos.contains(&draw_fbo)
+                    && !t.renderbuffer_fbos.contains(&draw_fbo) =>
+            {
+                t.events.push((c.index, Event::Clear { fbo: draw_fbo }))
+            }
             "glCopyTexSubImage2D" => t.events.push((
                 c.index,
                 Event::Copy {
@@ -245,6 +256,7 @@ fn check_common(mode: &str, t: &Trace) {
                     "{mode}: upload {index} overwrites an unread copy into texture {texture}"
                 );
             }
+            Event::Clear { .. } => {}
         }
     }
 }
@@ -367,6 +379,62 @@ fn the_papers_mode_follows_the_papers_data_flow() {
 fn the_accurate_mode_has_the_same_data_flow_and_no_dead_copy() {
     let t = trace_solve("accurate");
     check_shots("accurate", &t, None);
+    // On llvmpipe `--tuning auto` runs the llvmpipe engine, whose walk writes the small shots'
+    // item buffers: the GPU profile's test below is not vacuous.
+    let (uploads, _, _) = item_buffers(&t);
+    assert!(uploads > 0, "the llvmpipe engine uploaded no item buffer");
+}
+
+/// In the solve's passes (up to the last copy; the display follows): the uploads into item-buffer
+/// textures, the item buffers cleared (visibility passes that draw), and of those the ones drawn
+/// into before the next clear or reconstruction.
+fn item_buffers(t: &Trace) -> (usize, usize, usize) {
+    let last_copy = (t.events.iter())
+        .rposition(|(_, e)| matches!(e, Event::Copy { .. }))
+        .expect("copies");
+    let visibility_fbo =
+        |fbo: &u32| t.texture_fbos.contains(fbo) && !t.renderbuffer_fbos.contains(fbo);
+    let (mut uploads, mut cleared, mut drawn) = (0, 0, 0);
+    let mut open: Option<u32> = None;
+    for (_, e) in &t.events[..last_copy] {
+        match e {
+            Event::Upload { texture } if t.attached_textures.contains(texture) => uploads += 1,
+            Event::Clear { fbo } if visibility_fbo(fbo) => {
+                cleared += 1;
+                open = Some(*fbo);
+            }
+            Event::Draw { fbo, .. } if open == Some(*fbo) => {
+                drawn += 1;
+                open = None;
+            }
+            Event::Draw { .. } => open = None,
+            _ => {}
+        }
+    }
+    (uploads, cleared, drawn)
+}
+
+/// `--tuning gpu` (the GPU profile, forced on llvmpipe): every item buffer is drawn by the
+/// driver into its visibility FBO (each cleared, then drawn into; none uploaded), at least one
+/// per reconstruction pass, and the data flow is the paper's, every copy read.
+#[test]
+fn the_gpu_profile_draws_every_item_buffer() {
+    let dir = tempfile::tempdir().unwrap();
+    let t = trace_run("gpu", dir.path(), &["--tuning", "gpu", "--max-shots", "3"]);
+    check_shots("gpu", &t, None);
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("out/stats.json")).unwrap())
+            .unwrap();
+    assert_eq!(stats["tuning"], "gpu");
+    let passes = stats["passes"].as_u64().unwrap() as usize;
+    let (uploads, cleared, drawn) = item_buffers(&t);
+    assert_eq!(uploads, 0, "item buffers uploaded");
+    assert_eq!(cleared, drawn, "item buffers cleared, and of those drawn");
+    assert!(
+        cleared >= passes,
+        "{cleared} item buffers for {passes} reconstruction passes"
+    );
+    println!("--tuning gpu: {cleared} item buffers drawn, {passes} passes, 0 uploaded");
 }
 
 /// Clusters (beyond the paper) clear their members' unshot energy before a shot's passes, by

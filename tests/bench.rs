@@ -211,9 +211,17 @@ fn scaling_times_the_whole_polygons_configuration_when_asked() {
     // which differ from the paper-faithful configuration's.
     let (scene, layout) = room("simple").unwrap();
     let shots = |options| {
-        gpu_run(BackendChoice::Auto, &scene, &layout, &options)
-            .unwrap()
-            .2
+        gpu_run(
+            (
+                BackendChoice::Auto,
+                gpu_radiosity::solver::TuningChoice::Auto,
+            ),
+            &scene,
+            &layout,
+            &options,
+        )
+        .unwrap()
+        .2
     };
     let fast = shots(SolveOptions::whole_polygons(0.2));
     assert_eq!(runs[0]["solver"], "gpu");

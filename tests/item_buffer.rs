@@ -16,8 +16,14 @@ use gpu_radiosity::solver::{GpuSolver, SolveOptions, Tuning, VisibilityKind};
 /// The tuning for llvmpipe with the views drawn (`Tuning::walk_item_buffers` off): the GPU path
 /// these tests hold to account. `the_walk_writes_what_the_views_draw` compares the two.
 fn drawn() -> Tuning {
+    Tuning::llvmpipe().drawing()
+}
+
+/// The tuning for llvmpipe with the walk writing the item buffers at every side (the engine's
+/// default draws those above `Tuning::walk_up_to`).
+fn walked() -> Tuning {
     Tuning {
-        walk_item_buffers: false,
+        walk_up_to: 0,
         ..Tuning::llvmpipe()
     }
 }
@@ -226,7 +232,7 @@ fn hemicube_in_the_furnished_room_matches_ray_casting() {
         assert_quoted(name, 100.0 * agreement, "100.0");
         // And the item buffer the walk writes instead (`Tuning::walk_item_buffers`).
         let hemicube = VisibilityKind::Hemicube;
-        let (walked, _) = compare_tuned(&scene, find(name), 0.0, 64, hemicube, Tuning::llvmpipe());
+        let (walked, _) = compare_tuned(&scene, find(name), 0.0, 64, hemicube, walked());
         println!("  written by the walk: {:.3} %", 100.0 * walked);
         assert_quoted(name, 100.0 * walked, "100.0");
     }
@@ -536,7 +542,7 @@ fn walked_against_drawn(scene: &Scene, patch_size: f32, sides: &[u32]) -> (usize
     let n = scene.polygons.len();
     let top = *sides.iter().max().unwrap();
     let pass = |tuning| VisibilityPass::new(&ctx, VisibilityKind::Hemicube, top, tuning, scene);
-    let mut walked = pass(Tuning::llvmpipe()).unwrap();
+    let mut walked = pass(walked()).unwrap();
     let mut views = pass(drawn()).unwrap();
     let data = walked.merge_plates(scene).vertex_data(scene, &layout);
     views.merge_plates(scene);

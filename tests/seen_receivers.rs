@@ -91,7 +91,11 @@ fn reach_against_shader(scene: &Scene, patch_size: f32, sides: &[u32]) -> [usize
         &ctx,
         VisibilityKind::Hemicube,
         top,
-        Tuning::llvmpipe(),
+        // The walk at every side (the engine's default draws those above `walk_up_to`).
+        Tuning {
+            walk_up_to: 0,
+            ..Tuning::llvmpipe()
+        },
         scene,
     )
     .unwrap();

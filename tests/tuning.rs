@@ -131,7 +131,11 @@ fn marking_after_some_shots_only_gives_the_same_lightmaps() {
     };
     let mut adaptive = solver(|_| {});
     let mut always = solver(|t| t.marking_below = 100);
-    let mut never = solver(|t| t.marking_pass = false);
+    let mut never = solver(|t| {
+        t.marking_pass = false;
+        // Needs the marking pass (`Tuning::check`); bit for bit the same without.
+        t.few_shooter_programs = false;
+    });
     let steps = 60;
     let d = step_both("simple, always", &mut adaptive, &mut always, steps);
     assert_eq!(d, 0.0, "marking before every pass: L1 difference {d}");
@@ -270,6 +274,88 @@ fn the_papers_passes_and_the_tuned_ones_give_the_same_lightmaps() {
 }
 
 #[test]
+fn the_gpu_profile_gives_the_llvmpipe_engines_lightmaps_but_for_edge_pixels() {
+    // Forced on llvmpipe, `Tuning::gpu` draws every item buffer whole and shades every receiver:
+    // against the llvmpipe engine (the default here), whose switches change only depth ties,
+    // edge pixels (the walk) and float rounding (the guard band, plates), the answer moves as
+    // little as with the walk alone (`writing_the_item_buffers_from_the_walk_...`).
+    for (name, options) in [
+        ("cornell", SolveOptions::default_with(1e-3)),
+        ("simple", SolveOptions::paper_faithful(0.01)),
+    ] {
+        let scene = load(name);
+        let resolution =
+            (scene.patch_size).map_or(Resolution::Patches(4096), Resolution::PatchSize);
+        let layout = PatchLayout::new(&scene, resolution);
+        let ctx = context();
+        let solver = |tuning| {
+            let options = SolveOptions {
+                tuning,
+                ..options.clone()
+            };
+            GpuSolver::new(&ctx, &scene, &layout, options).unwrap()
+        };
+        let (mut engine, mut gpu) = (solver(Tuning::llvmpipe()), solver(Tuning::gpu()));
+        if name == "cornell" {
+            let d = step_both(name, &mut engine, &mut gpu, 40);
+            assert!(d < 1e-5, "{name}: L1 difference {d}");
+            assert!(!gpu.backend().reconstruction.drew_points());
+            continue;
+        }
+        // The simple room's shots part within 40 steps, as with the walk alone.
+        for _ in 0..40 {
+            engine.step().unwrap().unwrap();
+            gpu.step().unwrap().unwrap();
+        }
+        let (a, b) = (engine.unshot_fraction(), gpu.unshot_fraction());
+        assert!(
+            (a - b).abs() < 0.02 * a,
+            "{name}: unshot {a} engine, {b} gpu"
+        );
+        // The GPU profile culls nothing and marks nothing.
+        assert_eq!(gpu.backend().visibility.missed(), 0);
+        assert_eq!(gpu.backend().reconstruction.marked_passes, 0);
+    }
+}
+
+#[test]
+fn every_profile_solves_the_cornell_box_to_the_same_lightmaps() {
+    // Whole default solves of the Cornell box (to its stopping rule) with each profile forced on
+    // llvmpipe: the radiance atlases within PROFILE_TOLERANCE (relative L1) of the llvmpipe
+    // engine's, which `auto` runs here.
+    const PROFILE_TOLERANCE: f64 = 2e-3;
+    let scene = load("cornell");
+    let layout = PatchLayout::new(&scene, Resolution::Patches(4096));
+    let ctx = context();
+    let solve = |tuning| {
+        let options = SolveOptions {
+            tuning,
+            ..SolveOptions::accurate()
+        };
+        let mut s = GpuSolver::new(&ctx, &scene, &layout, options).unwrap();
+        s.solve(|_| {}).unwrap();
+        (s.radiosity_atlas(), s.shots())
+    };
+    let (engine, shots) = solve(Tuning::llvmpipe());
+    let total: f64 = engine.iter().map(|x| x.abs() as f64).sum();
+    for (name, tuning) in [("gpu", Tuning::gpu()), ("paper", Tuning::none())] {
+        let (other, other_shots) = solve(tuning);
+        let diff: f64 = (engine.iter().zip(&other))
+            .map(|(a, b)| (a - b).abs() as f64)
+            .sum();
+        eprintln!(
+            "{name}: relative L1 {:.2e}, shots {other_shots} against {shots}",
+            diff / total
+        );
+        assert!(
+            diff / total < PROFILE_TOLERANCE,
+            "{name}: relative L1 {}",
+            diff / total
+        );
+    }
+}
+
+#[test]
 fn the_guard_band_changes_nothing_but_float_noise() {
     // Without it each hemicube face is drawn in a viewport of its own size, and the triangles
     // crossing its edges are clipped: the same pixels, but for float rounding of the clipped
@@ -362,7 +448,7 @@ fn leaving_out_polygons_between_pixel_centres_changes_no_pixel() {
     let ctx = context();
     let mut fast = gpu_radiosity::solver::SolveOptions::whole_polygons(0.01);
     // Drawn: with the walk writing the item buffers no view is drawn to leave polygons out of.
-    fast.tuning.walk_item_buffers = false;
+    fast.tuning = fast.tuning.drawing();
     let fast_slots = fast.shooters_per_pass as usize;
     let mut whole_options = fast.clone();
     off(&mut whole_options.tuning);
@@ -433,9 +519,12 @@ fn drawing_only_what_the_walk_reaches_gives_the_same_lightmaps() {
     // reach (`visibility::seen_receivers`), and with several shooters a pass marks them shooter
     // by shooter and shades the blocks only one reaches with that one alone: bit for bit the
     // same lightmaps (tests/seen_receivers.rs checks the reach patch by patch).
-    let walk = |t: &mut Tuning| t.walk_item_buffers = true;
-    let off = |t: &mut Tuning| t.walk_receivers = false;
-    on_both_rooms_from(walk, off, |name, mut reached, mut every| {
+    let off = |t: &mut Tuning| {
+        t.walk_receivers = false;
+        // Needs `walk_receivers` (`Tuning::check`); bit for bit the same without.
+        t.few_shooter_programs = false;
+    };
+    on_both_rooms_from(walk_every_side, off, |name, mut reached, mut every| {
         let (mut fewer, mut all) = (0, 0);
         for _ in 0..40 {
             let d = step_both(name, &mut reached, &mut every, 1);
@@ -464,10 +553,9 @@ fn shading_shared_blocks_with_programs_for_just_their_shooters_gives_the_same_li
     // With the walk's reach, the blocks that two to four shooters of a pass alone may reach are
     // shaded by a program for just those shooters (`Tuning::few_shooter_programs`): every other
     // shooter adds +0.0 there, so the sums are the same bit for bit.
-    let walk = |t: &mut Tuning| t.walk_item_buffers = true;
     let off = |t: &mut Tuning| t.few_shooter_programs = false;
     let mut few_blocks = 0;
-    on_both_rooms_from(walk, off, |name, mut few, mut all| {
+    on_both_rooms_from(walk_every_side, off, |name, mut few, mut all| {
         for _ in 0..40 {
             assert_eq!(step_both(name, &mut few, &mut all, 1), 0.0, "{name}");
         }
@@ -512,6 +600,18 @@ fn float_depth_or_24_bit_depth_give_the_same_lightmaps() {
     });
 }
 
+/// The llvmpipe engine with the walk writing every item buffer, at any side, with the reach it
+/// finds and the few-shooter programs (`on_both_rooms_from` starts from the views drawn).
+fn walk_every_side(t: &mut Tuning) {
+    *t = Tuning {
+        walk_up_to: 0,
+        ..*t
+    };
+    t.walk_item_buffers = true;
+    t.walk_receivers = true;
+    t.few_shooter_programs = true;
+}
+
 /// Step both solvers `shots` times (they must pick the same shooters) and return the larger
 /// relative L1 difference of their radiance and unshot atlases: 0 when bit for bit the same.
 fn step_both(name: &str, a: &mut GpuSolver<'_>, b: &mut GpuSolver<'_>, shots: u32) -> f64 {
@@ -546,8 +646,9 @@ fn on_both_rooms(
     on_both_rooms_from(|_| {}, tweak, check)
 }
 
-/// Run `check` on two solvers of Lost Empire with the defaults (eight shooters a pass, the walk
-/// writing the item buffers), `tweak` applied to the second one's tuning.
+/// Run `check` on two solvers of Lost Empire with the defaults (eight shooters a pass), the walk
+/// writing every item buffer (at any side: `Tuning::walk_up_to` 0), `tweak` applied to the
+/// second one's tuning.
 fn on_lost_empire(tweak: fn(&mut Tuning), check: impl FnOnce(GpuSolver<'_>, GpuSolver<'_>)) {
     let Some(scene) = third_party_lit("lost-empire/lost_empire.obj", "Torch", [5.0, 4.0, 2.0])
     else {
@@ -557,6 +658,7 @@ fn on_lost_empire(tweak: fn(&mut Tuning), check: impl FnOnce(GpuSolver<'_>, GpuS
     let ctx = context();
     let solver = |tweak: fn(&mut Tuning)| {
         let mut options = SolveOptions::accurate();
+        options.tuning.walk_up_to = 0;
         tweak(&mut options.tuning);
         GpuSolver::new(&ctx, &scene, &layout, options).unwrap()
     };
@@ -590,7 +692,7 @@ fn on_both_rooms_from(
         // The switches below change the views the GPU draws; with the walk writing the item
         // buffers (`writing_the_item_buffers_from_the_walk_...` compares the two) there would be
         // nothing drawn to change.
-        options.tuning.walk_item_buffers = false;
+        options.tuning = options.tuning.drawing();
         base(&mut options.tuning);
         let mut tweaked = options.clone();
         tweak(&mut tweaked.tuning);

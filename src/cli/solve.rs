@@ -9,7 +9,8 @@ use crate::pipeline::{self, SettingsError, Stats, Target};
 pub use crate::pipeline::{Mode, SolverKind};
 use crate::scene::{Camera, Emission, LoadOptions, Scene, SceneError};
 use crate::solver::{
-    FormFactorKind, GpuSolver, ShotRecord, SolveError, SolveOptions, VisibilityKind,
+    ChosenTuning, FormFactorKind, GpuSolver, ShotRecord, SolveError, SolveOptions, TuningChoice,
+    VisibilityKind,
 };
 use anyhow::{bail, Context, Result};
 use clap::value_parser;
@@ -70,6 +71,12 @@ pub struct SolveArgs {
     /// paper_notes.md. The four options below override single settings of the mode.
     #[arg(long, value_enum, default_value_t = Mode::Accurate)]
     pub mode: Mode,
+    /// Speed switches of the GPU passes: auto (the llvmpipe engine on Mesa's software
+    /// rasterisers, the GPU profile on any other renderer; the paper's passes with --mode
+    /// paper), paper (the passes as the paper draws them), llvmpipe, gpu (every item buffer
+    /// drawn by the GPU). The same answers within what each switch promises.
+    #[arg(long, value_enum, default_value_t = TuningChoice::Auto)]
+    pub tuning: TuningChoice,
     /// Item-buffer resolution (pixels per side; per face for the hemicube). Mode default:
     /// paper 512, accurate 256.
     #[arg(long, value_parser = values::hemi_res(), allow_hyphen_values = true)]
@@ -362,6 +369,9 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
     let ctx = GlContext::headless(args.backend)?;
     report_setup(&ctx.info, &scene, &layout);
     let mut options = args.options();
+    let tuning = chosen_tuning(args, &ctx);
+    eprintln!("{}", tuning.line());
+    options.tuning = tuning.tuning();
     if args.max_shots.is_none() {
         options.max_shots = crate::solver::default_max_shots(scene.polygons.len());
         if options.max_shots > SolveOptions::paper().max_shots {
@@ -401,6 +411,7 @@ pub fn run_solve(args: &SolveArgs) -> Result<SolveOutcome> {
         solver: args.solver,
         mode: args.mode,
         options,
+        tuning: &tuning,
         emit: &args.emit,
         gl: &ctx.info,
         threads: (args.solver == SolverKind::Cpu).then(|| rayon_threads(args.threads)),
@@ -455,6 +466,12 @@ fn write_gltf(
         set.write(&file, display::output::Payload::Bytes(&bytes))?;
     }
     Ok(())
+}
+
+/// `--tuning` resolved on `ctx`'s renderer (the GPU solver's; the CPU solver has none).
+fn chosen_tuning(args: &SolveArgs, ctx: &GlContext) -> ChosenTuning {
+    let renderer = (args.solver == SolverKind::Gpu).then_some(ctx.info.renderer.as_str());
+    args.tuning.resolve(args.mode == Mode::Paper, renderer)
 }
 
 /// The output folder (`--out`, or out/SCENE), created.

@@ -16,6 +16,9 @@ pub struct ViewArgs {
     /// `paper` or `accurate`, as for `solve` (switch in the window with M).
     #[arg(long, value_enum, default_value_t = Mode::Accurate)]
     pub mode: Mode,
+    /// Speed switches of the GPU passes, as for `solve`: auto, paper, llvmpipe, gpu.
+    #[arg(long, value_enum, default_value_t = crate::solver::TuningChoice::Auto)]
+    pub tuning: crate::solver::TuningChoice,
     /// Stop when unshot power / emitted power ≤ this (0 < F < 1). Mode default: paper 0.01,
     /// accurate 0.003.
     #[arg(long, value_parser = values::threshold, allow_hyphen_values = true)]
@@ -89,6 +92,7 @@ pub fn run_view(args: &ViewArgs) -> Result<()> {
         sky: args.sky,
         keep_faces: args.keep_faces,
         mode: args.mode,
+        tuning: args.tuning,
         threshold,
         patch_size: args.patch_size,
         patches: args.patches,

@@ -95,10 +95,15 @@ static SOFTWARE_RASTERISER: parking_lot::ReentrantMutex<()> =
     parking_lot::const_reentrant_mutex(());
 
 /// Whether `renderer` (GL_RENDERER) is one of Mesa's software rasterisers, directly or under
-/// zink (`zink (llvmpipe (LLVM 15.0.6, 256 bits))`).
+/// zink over lavapipe (`zink Vulkan 1.3(llvmpipe (LLVM 15.0.6, 256 bits) (MESA_LLVMPIPE))`),
+/// including classic swrast, which calls itself `Mesa X11` or `Mesa OffScreen`.
 pub fn is_software_rasteriser(renderer: &str) -> bool {
     let r = renderer.to_ascii_lowercase();
-    r.contains("llvmpipe") || r.contains("softpipe") || r.contains("swrast")
+    ["llvmpipe", "lavapipe", "softpipe", "swrast"]
+        .iter()
+        .any(|name| r.contains(name))
+        || r.starts_with("mesa x11")
+        || r.starts_with("mesa offscreen")
 }
 
 /// A context's backend, destroyed in `drop` with no context current; then the thread's newest

@@ -8,7 +8,7 @@ use crate::gl::GlContext;
 use crate::patches::{PatchLayout, Resolution};
 use crate::pipeline::{self, SolverKind};
 use crate::scene::{bundled, Scene};
-use crate::solver::{GpuSolver, SolveOptions, VisibilityKind};
+use crate::solver::{GpuSolver, SolveOptions, Tuning, VisibilityKind};
 use anyhow::{Context, Result};
 
 /// What a case runs.
@@ -43,20 +43,37 @@ pub enum Probe {
     UploadOrder,
 }
 
-/// The solve's mode of a case, as in `radiosity solve --mode`.
+/// The solve's mode of a case, as in `radiosity solve --mode`. Every mode but `AccurateWalked`
+/// draws its item buffers through the driver, which is what the cases hold to account.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
     /// `SolveOptions::paper`: the paper as written.
     Paper,
-    /// `SolveOptions::accurate`: the default.
+    /// `SolveOptions::accurate`, the default, with the llvmpipe engine's views drawn
+    /// (`Tuning::drawing`): its culled draws, guard band, marking pass and wide points, but no
+    /// item buffer written by the walk.
     Accurate,
+    /// The default with the llvmpipe engine's walk writing every item buffer, at every side
+    /// (`Tuning::walk_up_to` 0; uploaded with glTexSubImage2D, not drawn): the path of the
+    /// small shots that `auto` runs on llvmpipe, held to account in every shot.
+    AccurateWalked,
 }
 
 impl Mode {
     fn options(self) -> SolveOptions {
         match self {
             Mode::Paper => SolveOptions::paper(),
-            Mode::Accurate => SolveOptions::accurate(),
+            Mode::Accurate => SolveOptions {
+                tuning: Tuning::llvmpipe().drawing(),
+                ..SolveOptions::accurate()
+            },
+            Mode::AccurateWalked => SolveOptions {
+                tuning: Tuning {
+                    walk_up_to: 0,
+                    ..Tuning::llvmpipe()
+                },
+                ..SolveOptions::accurate()
+            },
         }
     }
 }
@@ -106,6 +123,16 @@ pub const CASES: &[Case] = &[
         probe: Probe::Render {
             scene: "cornell",
             mode: Mode::Accurate,
+        },
+    },
+    Case {
+        name: "cornell-accurate-walked",
+        exercises: "a whole solve to 1 % with the llvmpipe engine's hidden-polygon walk writing \
+                    every item buffer (glTexSubImage2D uploads, not draws), the seen receivers \
+                    and few-shooter programs it enables; then the display pass",
+        probe: Probe::Render {
+            scene: "cornell",
+            mode: Mode::AccurateWalked,
         },
     },
     Case {
@@ -241,7 +268,7 @@ pub fn render(ctx: &GlContext, case: &Case) -> Result<Picture> {
             };
             // This case holds the driver's drawing to account: the item buffer drawn, not
             // written by the walk (`Tuning::walk_item_buffers`).
-            options.tuning.walk_item_buffers = false;
+            options.tuning = options.tuning.drawing();
             let mut solver = GpuSolver::new(ctx, &scene, &layout, options)?;
             let polygon = solver
                 .next_polygon()

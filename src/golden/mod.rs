@@ -48,9 +48,10 @@ macro_rules! golden {
 }
 
 /// tests/golden/ at build time, one per case.
-const BUILT_IN: [(&str, &[u8]); 10] = [
+const BUILT_IN: [(&str, &[u8]); 11] = [
     golden!("cornell-paper"),
     golden!("cornell-accurate"),
+    golden!("cornell-accurate-walked"),
     golden!("box-paper"),
     golden!("box-accurate"),
     golden!("shadow-paper"),

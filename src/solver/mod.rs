@@ -24,6 +24,7 @@ pub mod mesh;
 pub mod options;
 pub mod overshoot;
 pub mod pass_names;
+pub mod profile;
 pub mod progressive;
 pub mod reconstruction;
 pub mod shooters;
@@ -34,6 +35,7 @@ pub use cpu::CpuSolver;
 pub use gpu::GpuSolver;
 pub use ledger::{Ledger, PassTimes};
 pub use options::*;
+pub use profile::{ChosenTuning, Profile, TuningChoice};
 pub use progressive::{Backend, Member, Solver};
 pub use tuning::Tuning;
 
@@ -62,6 +64,9 @@ pub enum SolveError {
         /// About the smallest patch size that fits.
         suggest: f32,
     },
+    /// Speed switches that cannot work together (`Tuning::check`).
+    #[error("{0}")]
+    Tuning(String),
     /// A negative or non-finite tessellation.
     #[error("the tessellation {0} must be 0 (off) or a positive number of patch sizes")]
     Tessellation(f32),

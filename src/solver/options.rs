@@ -63,6 +63,8 @@ pub struct SolveOptions {
     pub robust_visibility: bool,
     /// Speed switches for llvmpipe that leave the answer as it is (`tuning.rs`); the paper's mode
     /// turns them all off, so that its passes are the paper's.
+    /// (In stats.json `tuning_switches`: `tuning` names the profile.)
+    #[serde(rename = "tuning_switches")]
     pub tuning: Tuning,
     /// Beyond the paper, for fewer shots: each shooter also shoots the ambient light it will
     /// still receive, and is left with that much negative unshot energy (`overshoot.rs`).
@@ -286,6 +288,7 @@ impl SolveOptions {
         if !(1..=MAX_SHOOTERS_PER_PASS).contains(&k) {
             return Err(SolveError::ShootersPerPass(k));
         }
+        self.tuning.check().map_err(SolveError::Tuning)?;
         if !(self.tessellation >= 0.0 && self.tessellation.is_finite()) {
             return Err(SolveError::Tessellation(self.tessellation));
         }

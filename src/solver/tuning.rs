@@ -18,7 +18,9 @@
 //! both modes, each measured against the accuracy guard (`validate::guard`, paper_notes "Beyond
 //! the paper").
 
-/// Speed switches of the passes (see the module comment). `Default` is [`Tuning::llvmpipe`].
+/// Speed switches of the passes (see the module comment). `Default` is [`Tuning::llvmpipe`];
+/// `radiosity` chooses among [`Tuning::none`], [`Tuning::llvmpipe`] and [`Tuning::gpu`] by
+/// renderer (`profile.rs`, `--tuning`). [`Tuning::check`] refuses switches that need others.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct Tuning {
     /// Reconstruction: draw only the lightmaps of polygons that can receive from this shooter
@@ -127,6 +129,18 @@ pub struct Tuning {
     /// one side and the walk to the nearer (or first) polygon, and the answer moves as little
     /// as with the other depth-tie switches. Off: the views are drawn, as the paper draws them.
     pub walk_item_buffers: bool,
+    /// Visibility (with `cull_hidden`), in passes of one shooter: the hidden-polygon walk runs
+    /// (leaving hidden polygons out, and with `walk_item_buffers` writing the item buffer)
+    /// only for shots whose item buffer is at most this many pixels a side; larger ones are
+    /// drawn with the other culling, as before the walk. The walk was tuned for the 16–45 px
+    /// item buffers of Lost Empire's small shots; a 128² hemicube of Table 1's paper-faithful
+    /// row measured 25 % cheaper drawn without it ([`WALK_UP_TO`]). 0: every side. Passes of
+    /// several shooters (`VisibilityPass::with_slots`) walk every side: drawing Lost Empire's
+    /// shots above 64² with the default's eight shooters a pass measured 6–9 % slower, the
+    /// reach found by the walk being lost for the whole pass. A pass that mixes walked and drawn
+    /// item buffers draws the whole atlas with the marking pass (`receivers_seen` is known for
+    /// walked slots only). 0: no limit.
+    pub walk_up_to: u32,
     /// Reconstruction (with `walk_item_buffers`): draw only the lightmaps of the polygons that
     /// the pass's item buffers let receive (`visibility::seen_receivers`), plus the shooting
     /// texels. The walk knows each pixel's polygon on the CPU, so a box of patches can be left
@@ -179,6 +193,7 @@ impl Tuning {
             cull_between_samples: true,
             cull_hidden: true,
             walk_item_buffers: true,
+            walk_up_to: WALK_UP_TO,
             walk_receivers: true,
             few_shooter_programs: true,
             flush_visibility: true,
@@ -209,11 +224,113 @@ impl Tuning {
             cull_between_samples: false,
             cull_hidden: false,
             walk_item_buffers: false,
+            walk_up_to: 0,
             walk_receivers: false,
             few_shooter_programs: false,
             flush_visibility: false,
             float_depth: true,
         }
+    }
+
+    /// The paper's data flow done fast on a GPU (`--tuning gpu`, and `auto` on any renderer but
+    /// Mesa's software rasterisers): the GPU draws every item buffer whole and shades every
+    /// receiver; the CPU walks, culls and selects nothing. On, because they pay on any
+    /// rasteriser:
+    /// - `compile_choices`: constants instead of uniform branches, fewer instructions and
+    ///   registers on any shader compiler;
+    /// - `unroll_quads`: a loop of constant count over four corners unrolls anywhere;
+    /// - `half_side_faces`: half the side faces' pixels are never looked up, so never drawn;
+    /// - `float_depth`: as in the paper's mode (precision, not speed).
+    ///
+    /// Off, because their gain rests on llvmpipe being a CPU: the walk and what needs it
+    /// (`walk_item_buffers`, `walk_receivers`, `few_shooter_programs`, `cull_hidden`); the
+    /// per-shot culling on the CPU (`cull_views`, `cull_solids`, `cull_between_samples`, which
+    /// cost the CPU a pass over the scene and an index upload per shot, while a GPU transforms
+    /// and clips the whole scene five times in well under a millisecond); `plates` (fewer
+    /// triangles to set up and bin on one thread); `split_unclipped` and `guard_band` (GPUs clip
+    /// in hardware, with their own guard band); `squares_as_points` (llvmpipe's shared-diagonal
+    /// cost; a GPU's point sizes are capped and vary); `marking_pass` (a second draw and the lit
+    /// share read on the CPU to skip llvmpipe's 4×4 blocks, while a GPU shades the whole atlas
+    /// in microseconds); `receivers_only`, `skip_needless_clipping` (CPU selection before each
+    /// draw); `flush_visibility` (nothing runs on the CPU between the two passes to overlap).
+    pub const fn gpu() -> Self {
+        Tuning {
+            compile_choices: true,
+            unroll_quads: true,
+            half_side_faces: true,
+            ..Self::none()
+        }
+    }
+
+    /// This tuning with the views drawn instead of walked: `walk_item_buffers` off, with what
+    /// needs it (`walk_receivers`, `few_shooter_programs`).
+    pub const fn drawing(self) -> Self {
+        Tuning {
+            walk_item_buffers: false,
+            walk_up_to: 0,
+            walk_receivers: false,
+            few_shooter_programs: false,
+            ..self
+        }
+    }
+
+    /// Whether the hidden-polygon walk runs for a shot `side` pixels a side (hemicube only;
+    /// `cull_hidden`, `walk_up_to`).
+    pub fn walks_hidden(&self, side: u32) -> bool {
+        self.cull_hidden && (self.walk_up_to == 0 || side <= self.walk_up_to)
+    }
+
+    /// Whether the walk writes the item buffer of a shot `side` pixels a side (hemicube only;
+    /// `walk_item_buffers`, `walk_up_to`).
+    pub fn walks(&self, side: u32) -> bool {
+        self.walks_hidden(side) && self.walk_item_buffers
+    }
+
+    /// Refuse a combination of switches that cannot work together: each switch that needs
+    /// another names it. Some switches are inert for some options (the walk and the solids
+    /// need the hemicube); those are not refused here.
+    pub fn check(&self) -> Result<(), String> {
+        let needs = [
+            (
+                self.walk_receivers,
+                "walk_receivers",
+                self.walk_item_buffers,
+                "walk_item_buffers",
+            ),
+            (
+                self.walk_item_buffers,
+                "walk_item_buffers",
+                self.cull_hidden,
+                "cull_hidden",
+            ),
+            (
+                self.few_shooter_programs,
+                "few_shooter_programs",
+                self.walk_receivers && self.marking_pass,
+                "walk_receivers and marking_pass",
+            ),
+            (
+                self.skip_needless_clipping,
+                "skip_needless_clipping",
+                self.receivers_only && self.marking_pass,
+                "receivers_only and marking_pass",
+            ),
+        ];
+        for (on, name, given, needed) in needs {
+            if on && !given {
+                return Err(format!("the tuning switch {name} needs {needed}"));
+            }
+        }
+        if self.marking_below > 100 {
+            return Err(format!(
+                "the tuning's marking_below {} is a share in per cent (0 to 100)",
+                self.marking_below
+            ));
+        }
+        if self.guard_band == 0 {
+            return Err("the tuning's guard_band is at least 1 (1: none)".into());
+        }
+        Ok(())
     }
 
     /// Whether the marking pass runs (if `marking_pass`) after a shot that lit `lit` (0 to 1)
@@ -229,6 +346,12 @@ impl Tuning {
         !self.receivers_only && !self.walk_receivers && !self.marking_pass
     }
 }
+
+/// The largest item-buffer side the llvmpipe engine's walk writes in passes of one shooter
+/// (`Tuning::walk_up_to`); larger shots are drawn. Table 1's paper-faithful row (128², one
+/// shooter a pass) on the simple room, interleaved in one process (`examples/interleaved_ab.rs`,
+/// 2026-12-07): 5.14 and 5.96 s drawn against 6.84 and 7.93 s walked.
+pub const WALK_UP_TO: u32 = 64;
 
 impl Default for Tuning {
     fn default() -> Self {

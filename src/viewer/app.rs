@@ -195,7 +195,8 @@ fn solves(v: &mut Viewer, ctx: &GlContext, scene: &Scene) -> Result<()> {
         };
         let c = &v.controls;
         let smooth = v.options.smooth_angle;
-        let session = Session::new(ctx, scene, &layout, c.mode, c.threshold, smooth);
+        let tuning = v.options.tuning;
+        let session = Session::new(ctx, scene, &layout, (c.mode, tuning), c.threshold, smooth);
         let mut session = match (session, good) {
             (Ok(s), _) => s,
             (Err(e), None) => return Err(e.into()),

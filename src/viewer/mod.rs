@@ -34,6 +34,8 @@ pub struct ViewOptions {
     pub keep_faces: bool,
     /// The solver settings, as `solve --mode`.
     pub mode: ViewMode,
+    /// The speed switches, as `solve --tuning` (resolved on the window's renderer).
+    pub tuning: crate::solver::TuningChoice,
     /// Stop when unshot power / emitted power ≤ this. Range (0, 1); typical 0.01.
     pub threshold: f32,
     /// Patch side in scene units; `None`: the scene's `# patch-size`, else about `patches`.

@@ -10,7 +10,7 @@ use crate::gl::{GlContext, GlError, Texture, TextureFormat};
 use crate::glsl;
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
-use crate::solver::{GpuSolver, SolveError, SolveOptions};
+use crate::solver::{GpuSolver, SolveError, SolveOptions, TuningChoice};
 use std::time::{Duration, Instant};
 
 pub struct Session<'a> {
@@ -36,12 +36,17 @@ impl<'a> Session<'a> {
         ctx: &'a GlContext,
         scene: &'a Scene,
         layout: &'a PatchLayout,
-        mode: ViewMode,
+        (mode, tuning): (ViewMode, TuningChoice),
         threshold: f32,
         smooth_angle: f32,
     ) -> Result<Session<'a>, SolveError> {
+        // Resolved on the window's renderer, per session: switching to the paper's mode (M)
+        // takes the paper's passes unless --tuning names a profile.
+        let chosen = tuning.resolve(mode == ViewMode::Paper, Some(&ctx.info.renderer));
+        eprintln!("{}", chosen.line());
         let options = SolveOptions {
             threshold,
+            tuning: chosen.tuning(),
             ..mode.options()
         };
         let mut solver = GpuSolver::new(ctx, scene, layout, options)?;

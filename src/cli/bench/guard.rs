@@ -102,18 +102,28 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             max_shots: 10,
             ..options.clone()
         };
-        gpu_run(args.backend, &scene, &layout, &warm)?;
-        gpu_run(args.backend, &cornell, &cornell_layout, &warm)?;
+        gpu_run((args.backend, args.tuning), &scene, &layout, &warm)?;
+        gpu_run(
+            (args.backend, args.tuning),
+            &cornell,
+            &cornell_layout,
+            &warm,
+        )?;
     }
     let mut times = vec![Vec::new(); configurations.len()];
     let mut cornell_times = vec![Vec::new(); configurations.len()];
     let mut results = vec![Measured::default(); configurations.len()];
     for _ in 0..args.repeat {
         for (k, (_, options)) in configurations.iter().enumerate() {
-            let (_, run, shots, atlas) = gpu_run(args.backend, &scene, &layout, options)?;
+            let (_, run, shots, atlas) =
+                gpu_run((args.backend, args.tuning), &scene, &layout, options)?;
             times[k].push(run);
-            let (_, cornell_run, cornell_shots, cornell_atlas) =
-                gpu_run(args.backend, &cornell, &cornell_layout, options)?;
+            let (_, cornell_run, cornell_shots, cornell_atlas) = gpu_run(
+                (args.backend, args.tuning),
+                &cornell,
+                &cornell_layout,
+                options,
+            )?;
             cornell_times[k].push(cornell_run);
             let comparison =
                 path_traced::compare(&cornell, &cornell_layout, &traced, &cornell_atlas)?;

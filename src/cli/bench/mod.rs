@@ -23,7 +23,7 @@ mod table1;
 use crate::gl::{BackendChoice, GlContext};
 use crate::patches::{PatchLayout, Resolution};
 use crate::scene::bundled;
-use crate::solver::{GpuSolver, SolveOptions};
+use crate::solver::{ChosenTuning, GpuSolver, SolveOptions, TuningChoice};
 use anyhow::{Context, Result};
 use std::time::Instant;
 
@@ -52,6 +52,11 @@ pub struct BenchArgs {
     /// The OpenGL backend of the GPU runs (EGL or OSMesa; `auto` tries both).
     #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
     pub backend: BackendChoice,
+    /// Speed switches of the GPU runs, as `solve --tuning`: auto (the llvmpipe engine on Mesa's
+    /// software rasterisers, the GPU profile elsewhere), paper, llvmpipe, gpu. Every row says
+    /// which ran.
+    #[arg(long, value_enum, default_value_t = TuningChoice::Auto)]
+    pub tuning: TuningChoice,
     /// Stopping rule: unshot power / emitted power (0 < F < 1).
     #[arg(
         long,
@@ -163,10 +168,11 @@ pub fn room(name: &str) -> Result<(crate::scene::Scene, PatchLayout)> {
 }
 
 /// One timed GPU run: the setup (a new GL context and `GpuSolver::new`, up to a `glFinish`, so
-/// that no queued upload or emission pass is left for the loop), then the loop. Returns the
-/// setup's and the loop's seconds, the shots and the solution (the radiance atlas).
+/// that no queued upload or emission pass is left for the loop), then the loop, with `options`'
+/// tuning replaced by `tuning`'s on the context's renderer. Returns the setup's and the
+/// loop's seconds, the shots and the solution (the radiance atlas).
 pub fn gpu_run(
-    backend: BackendChoice,
+    (backend, tuning): (BackendChoice, TuningChoice),
     scene: &crate::scene::Scene,
     layout: &PatchLayout,
     options: &SolveOptions,
@@ -174,7 +180,11 @@ pub fn gpu_run(
     use glow::HasContext;
     let start = Instant::now();
     let ctx = GlContext::headless(backend)?;
-    let mut gpu = GpuSolver::new(&ctx, scene, layout, options.clone())?;
+    let options = SolveOptions {
+        tuning: tuning.resolve(false, Some(&ctx.info.renderer)).tuning(),
+        ..options.clone()
+    };
+    let mut gpu = GpuSolver::new(&ctx, scene, layout, options)?;
     unsafe { ctx.gl.finish() };
     let setup = start.elapsed().as_secs_f64();
     let start = Instant::now();
@@ -183,7 +193,14 @@ pub fn gpu_run(
     Ok((setup, run, gpu.shots(), gpu.radiosity_atlas()))
 }
 
-/// A child process of this program: `bench` with `args`, the backend and threshold of `parent`,
+/// `args.tuning` resolved on `ctx`'s renderer (the benches' configurations are all beyond the
+/// paper's mode, so `auto` picks by renderer).
+pub fn chosen_tuning(args: &BenchArgs, ctx: &GlContext) -> ChosenTuning {
+    args.tuning.resolve(false, Some(&ctx.info.renderer))
+}
+
+/// A child process of this program: `bench` with `args`, the backend, tuning and threshold of
+/// `parent`,
 /// and `env`, its stderr passed through. Returns what it printed, or an error naming `what`.
 pub fn run_child(
     parent: &BenchArgs,
@@ -196,10 +213,12 @@ pub fn run_child(
         .backend
         .to_possible_value()
         .context("a backend name")?;
+    let tuning = parent.tuning.to_possible_value().context("a tuning name")?;
     let out = std::process::Command::new(std::env::current_exe()?)
         .arg("bench")
         .args(args)
         .args(["--backend", backend.get_name()])
+        .args(["--tuning", tuning.get_name()])
         .args(["--threshold", &parent.threshold.to_string()])
         .envs(env.iter().copied())
         .stderr(std::process::Stdio::inherit())

@@ -118,6 +118,10 @@ fn one(args: &BenchArgs, spec: &str) -> Result<()> {
         "gpu" => {
             use glow::HasContext;
             let ctx = GlContext::headless(args.backend)?;
+            let options = crate::solver::SolveOptions {
+                tuning: super::chosen_tuning(args, &ctx).tuning(),
+                ..options
+            };
             let mut gpu = GpuSolver::new(&ctx, &scene, &layout, options)?;
             unsafe { ctx.gl.finish() };
             let setup = start.elapsed().as_secs_f64();

@@ -125,6 +125,9 @@ struct Row {
     unshot_fraction: f64,
     converged: bool,
     peak_memory_mib: f64,
+    /// The tuning profile the solve ran and why (its stats.json's `tuning`, `tuning_reason`).
+    tuning: String,
+    tuning_reason: String,
     /// The speed target the row is held to (`null` for none), and whether it was met.
     target: Option<String>,
     target_met: Option<bool>,
@@ -159,8 +162,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     use clap::ValueEnum;
     let scratch = tempfile_dir()?;
     let backend = args.backend.to_possible_value().context("a backend name")?;
-    outln!("| scene | faces | polygons | patches | clustered | shots | passes | loop s | unshot | peak MiB | target |");
-    outln!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|");
+    outln!("| scene | faces | polygons | patches | clustered | shots | passes | loop s | unshot | peak MiB | tuning | target |");
+    outln!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|");
     let mut rows = Vec::new();
     for scene in chosen(args)? {
         let out = scratch.join(scene.name);
@@ -172,6 +175,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         command.extend(scene.extra.iter().map(|a| a.to_string()));
         command.extend(["--threshold".into(), args.threshold.to_string()]);
         command.extend(["--backend".into(), backend.get_name().into()]);
+        let tuning = args.tuning.to_possible_value().context("a tuning name")?;
+        command.extend(["--tuning".into(), tuning.get_name().into()]);
         let status = std::process::Command::new(std::env::current_exe()?)
             .args(&command)
             .arg("--out")
@@ -208,6 +213,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             unshot_fraction: float("unshot_fraction"),
             converged,
             peak_memory_mib: float("peak_memory_mib"),
+            tuning: stats["tuning"].as_str().unwrap_or("?").to_string(),
+            tuning_reason: stats["tuning_reason"].as_str().unwrap_or("").to_string(),
             target: scene.target.map(|t| t.describe()),
             target_met: (scene.target).map(|t| {
                 t.met(
@@ -222,7 +229,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             _ => String::new(),
         };
         outln!(
-            "| {} | {} | {} | {} | {} | {} | {} | {:.1} | {:.2} %{} | {:.0} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {:.1} | {:.2} %{} | {:.0} | {} ({}) | {} |",
             row.scene,
             row.faces,
             row.polygons,
@@ -238,6 +245,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 " (not converged)"
             },
             row.peak_memory_mib,
+            row.tuning,
+            row.tuning_reason,
             target
         );
         rows.push(row);

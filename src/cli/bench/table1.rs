@@ -23,7 +23,7 @@
 use super::{cpu_model, gpu_run, median, peak_memory_mib, room, BenchArgs, ShaderCache};
 use crate::gl::{GlContext, GlInfo};
 use crate::solver::cpu::CpuSolver;
-use crate::solver::SolveOptions;
+use crate::solver::{ChosenTuning, SolveOptions};
 use crate::validate::guard;
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
@@ -92,6 +92,9 @@ struct Report {
     cores: usize,
     gl_renderer: String,
     gl_version: String,
+    /// The tuning profile of the GPU runs (`--tuning` on this renderer) and why.
+    tuning: &'static str,
+    tuning_reason: String,
     stopping_rule: String,
     /// What `setup_s` and `loop_s` time.
     timing: String,
@@ -171,6 +174,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let cache = CachePlan::of(args);
     let info_ctx = GlContext::headless(args.backend)?;
     let info = info_ctx.info.clone();
+    let tuning = super::chosen_tuning(args, &info_ctx);
     drop(info_ctx);
     let configurations = CONFIGURATIONS.len() as u64;
     let runs_per_configuration = 2 + cache.cold_child as u64;
@@ -186,7 +190,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         rows.extend(measure_room(args, name, &cache, &bar)?);
     }
     bar.finish_and_clear();
-    let report = report(args, &cache, &info, rows);
+    let report = report(args, &cache, &info, &tuning, rows);
     print_report(&report, cache.cold_child);
     if let Some(path) = &args.json {
         crate::display::output::write_json(path, &report)?;
@@ -203,7 +207,7 @@ fn run_gpu_only(args: &BenchArgs) -> Result<()> {
     // As in the parent, whose timed contexts are not the process's first (loading the
     // driver is not part of a setup): one context made and dropped before.
     drop(GlContext::headless(args.backend)?);
-    let (setup, run, shots, _) = gpu_run(args.backend, &scene, &layout, &options)?;
+    let (setup, run, shots, _) = gpu_run((args.backend, args.tuning), &scene, &layout, &options)?;
     outln!("setup_s {setup}\nloop_s {run}\nshots {shots}");
     Ok(())
 }
@@ -324,7 +328,12 @@ fn measure_room(
                 max_shots: 3,
                 ..configuration(c, args.threshold)
             };
-            gpu_run(args.backend, &room.scene, &room.layout, &warm_up)?;
+            gpu_run(
+                (args.backend, args.tuning),
+                &room.scene,
+                &room.layout,
+                &warm_up,
+            )?;
         }
     }
     // The configurations alternate within each repeat, so that all see the same machine.
@@ -359,7 +368,12 @@ fn time_configuration(
         bar.inc(1);
     }
     bar.set_message(format!("{name}, {c}: GPU"));
-    let (setup, run, n, atlas) = gpu_run(args.backend, &room.scene, &room.layout, &options)?;
+    let (setup, run, n, atlas) = gpu_run(
+        (args.backend, args.tuning),
+        &room.scene,
+        &room.layout,
+        &options,
+    )?;
     samples.gpu_setup_s.push(setup);
     samples.gpu_loop_s.push(run);
     samples.gpu_shots = n;
@@ -426,7 +440,13 @@ fn row(room: &Room, c: &'static str, samples: Samples, cold: bool) -> Row {
 }
 
 /// The report of `rows`, with what was measured and how.
-fn report(args: &BenchArgs, cache: &CachePlan, info: &GlInfo, mut rows: Vec<Row>) -> Report {
+fn report(
+    args: &BenchArgs,
+    cache: &CachePlan,
+    info: &GlInfo,
+    tuning: &ChosenTuning,
+    mut rows: Vec<Row>,
+) -> Report {
     let (state, shader_cache_note) = cache.state_and_note();
     for r in &mut rows {
         r.gpu.shader_cache = Some(state);
@@ -438,6 +458,8 @@ fn report(args: &BenchArgs, cache: &CachePlan, info: &GlInfo, mut rows: Vec<Row>
             .unwrap_or(1),
         gl_renderer: info.renderer.clone(),
         gl_version: info.version.clone(),
+        tuning: tuning.name(),
+        tuning_reason: tuning.reason.clone(),
         stopping_rule: format!(
             "unshot power / emitted power <= {}; paper-faithful: whole polygons shoot (one pass \
              per shot, as in the paper), polygon form factor, {}² hemicube; default: `radiosity \
@@ -469,7 +491,11 @@ fn report(args: &BenchArgs, cache: &CachePlan, info: &GlInfo, mut rows: Vec<Row>
         ),
         options: CONFIGURATIONS
             .iter()
-            .map(|&c| (c, configuration(c, args.threshold)))
+            .map(|&c| {
+                let options = configuration(c, args.threshold);
+                let tuning = tuning.tuning();
+                (c, SolveOptions { tuning, ..options })
+            })
             .collect(),
         peak_memory_mib: peak_memory_mib(),
         rows,
@@ -487,6 +513,7 @@ fn print_report(report: &Report, cold_child: bool) {
         report.gl_renderer,
         report.gl_version
     );
+    outln!("tuning: {} ({})", report.tuning, report.tuning_reason);
     outln!("stopping rule: {}", report.stopping_rule);
     outln!("timing: {}", report.timing);
     outln!("shader cache: {}", report.shader_cache_note);

@@ -185,6 +185,8 @@ pub struct ReconstructionPass {
     pub marked_passes: u32,
     /// The share of the patches the last shot lit (`observe`); none before the first readback.
     lit: Option<lit_share::LitShare>,
+    /// Whether `observe` estimates it: only for the marking pass's rule (`Tuning::marking_below`).
+    watches_lit: bool,
 }
 
 impl ReconstructionPass {
@@ -226,6 +228,7 @@ impl ReconstructionPass {
             quad_passes: 0,
             marked_passes: 0,
             lit: None,
+            watches_lit: options.tuning.marking_pass && options.tuning.marking_below < 100,
         })
     }
 
@@ -524,7 +527,7 @@ impl ReconstructionPass {
                 visibility.slot_texture(0).bind(UNITS.item_buffers[0]);
             }
             _ => {
-                uniforms.set(&self.programs.for_slots.marking);
+                uniforms.set(self.programs.for_slots.marking());
                 self.squares.draw_all();
             }
         }
@@ -620,6 +623,9 @@ impl ReconstructionPass {
     /// Take the unshot atlas read back after a shot (or, the first time, after the emission):
     /// how much of it the shot lit decides whether the next pass marks first.
     pub fn observe(&mut self, unshot: &[f32]) {
+        if !self.watches_lit {
+            return;
+        }
         match &mut self.lit {
             Some(lit) => lit.observe(unshot),
             None => self.lit = Some(lit_share::LitShare::new(unshot)),

@@ -32,20 +32,59 @@ pub(super) struct Programs {
     pub emission: Program,
 }
 
+/// A program for any corner count, and (`Tuning::unroll_quads`) its variant for quadrilateral
+/// shooters (`CORNERS` 4).
+pub(super) struct Variants {
+    any: Program,
+    quads: Option<Program>,
+}
+
+impl Variants {
+    /// `source` compiled by `compile`, and for quadrilaterals too if `quads`.
+    fn new(
+        compile: &dyn Fn(Source) -> Result<Program, GlError>,
+        source: &dyn Fn() -> Source,
+        quads: bool,
+    ) -> Result<Self, GlError> {
+        Ok(Variants {
+            any: compile(source())?,
+            quads: if quads {
+                Some(compile(source().define("CORNERS", 4))?)
+            } else {
+                None
+            },
+        })
+    }
+
+    /// The one for quadrilaterals if `quad` and it was compiled, else the general one.
+    fn get(&self, quad: bool) -> &Program {
+        match (&self.quads, quad) {
+            (Some(q), true) => q,
+            _ => &self.any,
+        }
+    }
+}
+
 /// `glsl/reconstruct.frag` compiled for one number of shooters.
 pub(super) struct ShooterPrograms {
-    /// The shader as the paper has it: visibility, form factor and GL_ADD in one program, for any
-    /// corner count and for quadrilateral shooters (`CORNERS`).
-    literal: [Program; 2],
-    /// The same after a marking pass (`MARKED`: visibility already tested), clipping the shooter
-    /// to each receiver's tangent plane.
-    marked: [Program; 2],
+    /// The shader as the paper has it: visibility, form factor and GL_ADD in one program.
+    literal: Variants,
+    /// The marking pass's programs (`Tuning::marking_pass`; the paper's mode builds none).
+    marked: Option<MarkedPrograms>,
+}
+
+/// The programs of a pass with the marking pass (`Tuning::marking_pass`).
+struct MarkedPrograms {
+    /// The pass proper after a marking pass (`MARKED`: visibility already tested), clipping the
+    /// shooter to each receiver's tangent plane.
+    marked: Variants,
     /// The same, compiled for receivers that have the whole shooter above that plane (no
-    /// clipping: a third fewer shader instructions on llvmpipe; see `glsl/reconstruct.frag`).
-    above: [Program; 2],
+    /// clipping: a third fewer shader instructions on llvmpipe; see `glsl/reconstruct.frag`),
+    /// with `Tuning::skip_needless_clipping`.
+    above: Option<Variants>,
     /// The marking pass (`MARK`): writes depth where a texel can receive, so that
     /// the programs above shade only those texels' blocks.
-    pub marking: Program,
+    marking: Program,
 }
 
 impl ShooterPrograms {
@@ -53,12 +92,20 @@ impl ShooterPrograms {
     /// and those that do not: after a marking pass (`marked`) the `MARKED` variants, otherwise
     /// the paper's program for both; unrolled for quadrilateral shooters if `quad`.
     pub fn shading(&self, marked: bool, quad: bool) -> (&Program, &Program) {
-        let q = quad as usize;
-        if marked {
-            (&self.marked[q], &self.above[q])
-        } else {
-            (&self.literal[q], &self.literal[q])
+        match (&self.marked, marked) {
+            (Some(m), true) => {
+                let above = m.above.as_ref().unwrap_or(&m.marked);
+                (m.marked.get(quad), above.get(quad))
+            }
+            _ => (self.literal.get(quad), self.literal.get(quad)),
         }
+    }
+
+    /// The marking pass's program (built with `Tuning::marking_pass`).
+    pub fn marking(&self) -> &Program {
+        let m = self.marked.as_ref();
+        &m.expect("the marking pass's programs are built with Tuning::marking_pass")
+            .marking
     }
 }
 
@@ -138,13 +185,25 @@ impl Programs {
         let frag = || frag_for(shooters);
         let marked = || frag().define("MARKED", 1);
         let above = || marked().define("SHOOTER_ABOVE", 1);
-        let for_slots = ShooterPrograms {
-            literal: [compile(frag())?, compile(frag().define("CORNERS", 4))?],
-            marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
-            above: [compile(above())?, compile(above().define("CORNERS", 4))?],
-            marking: compile(frag().define("MARK", 1))?,
-        };
         let tuning = &options.tuning;
+        // Only the variants the tuning draws: the paper's mode compiles the one program.
+        let quads = tuning.unroll_quads;
+        let for_slots = ShooterPrograms {
+            literal: Variants::new(&compile, &frag, quads)?,
+            marked: if tuning.marking_pass {
+                Some(MarkedPrograms {
+                    marked: Variants::new(&compile, &marked, quads)?,
+                    above: if tuning.skip_needless_clipping {
+                        Some(Variants::new(&compile, &above, quads)?)
+                    } else {
+                        None
+                    },
+                    marking: compile(frag().define("MARK", 1))?,
+                })
+            } else {
+                None
+            },
+        };
         let one = if tuning.walk_receivers && tuning.marking_pass && shooters > 1 {
             let marked = || frag_for(1).define("MARKED", 1);
             Some(OneShooter {

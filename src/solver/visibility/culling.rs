@@ -185,21 +185,53 @@ impl Culling {
         guard: i32,
     ) -> Self {
         let none = Plates::none(scene.polygons.len());
+        // Only what the tuning asks for: the paper's passes (and the GPU profile) build none of
+        // it, and draw the whole scene into every view.
+        let asked = Self::asked(&tuning, kind);
+        let hemicube = kind == VisibilityKind::Hemicube;
+        let solids = asked && hemicube && tuning.cull_solids || hemicube && tuning.plates;
         Culling {
             kind,
             tuning,
             near: near_far[0],
             far: near_far[1],
             guard,
-            spheres: scene.polygons.iter().map(|p| p.bounding_sphere()).collect(),
-            planes: scene.polygons.iter().map(|p| p.plane()).collect(),
-            solids: Solids::find(scene),
-            outlines: Outlines::new(scene, &none),
+            spheres: (scene.polygons.iter())
+                .filter(|_| asked)
+                .map(|p| p.bounding_sphere())
+                .collect(),
+            planes: (scene.polygons.iter())
+                .filter(|_| asked)
+                .map(|p| p.plane())
+                .collect(),
+            solids: if solids {
+                Solids::find(scene)
+            } else {
+                Solids::default()
+            },
+            outlines: Self::outlines_of(scene, kind, &tuning, &none),
             occluders: Self::occluders_of(scene, kind, &tuning, &none),
             seen: SeenReceivers::default(),
             lists: Lists::default(),
             missed: 0,
             hidden: 0,
+        }
+    }
+
+    /// What `Tuning::cull_between_samples` needs (hemicube only), for polygons shown as `plates`.
+    fn outlines_of(
+        scene: &Scene,
+        kind: VisibilityKind,
+        tuning: &Tuning,
+        plates: &Plates,
+    ) -> Outlines {
+        if Self::asked(tuning, kind)
+            && tuning.cull_between_samples
+            && kind == VisibilityKind::Hemicube
+        {
+            Outlines::new(scene, plates)
+        } else {
+            Outlines::default()
         }
     }
 
@@ -255,10 +287,12 @@ impl Culling {
 
     /// Cull by `plates` from now on: each plate's sphere and outline stand for its polygons.
     pub fn use_plates(&mut self, scene: &Scene, plates: &Plates) {
-        for (&p, outline) in &plates.outlines {
-            self.spheres[p] = sphere_around(mean(outline), outline);
+        if !self.spheres.is_empty() {
+            for (&p, outline) in &plates.outlines {
+                self.spheres[p] = sphere_around(mean(outline), outline);
+            }
         }
-        self.outlines = Outlines::new(scene, plates);
+        self.outlines = Self::outlines_of(scene, self.kind, &self.tuning, plates);
         self.occluders = Self::occluders_of(scene, self.kind, &self.tuning, plates);
     }
 
@@ -291,8 +325,11 @@ impl Culling {
         plates: &Plates,
         res: i32,
     ) {
-        let hidden = self.tuning.cull_hidden && self.kind == VisibilityKind::Hemicube;
-        let write = hidden && self.tuning.walk_item_buffers;
+        // The hidden-polygon walk, and the item buffer it writes, only at the sides where it
+        // pays (`Tuning::walk_up_to`).
+        let side = res.max(1) as u32;
+        let hidden = self.tuning.walks_hidden(side) && self.kind == VisibilityKind::Hemicube;
+        let write = hidden && self.tuning.walks(side);
         if !write {
             self.find_in_front(lists, shooter, view, plates);
         }
@@ -514,7 +551,7 @@ impl Culling {
         if self.tuning.cull_views && (p == shooter_plate || c.z >= radius) {
             return None;
         }
-        if let Some(k) = self.solids.solid_of[p] {
+        if let Some(k) = self.solids.solid_of.get(p).copied().flatten() {
             if self.planes[p].distance(s) < -self.solids.slack && outside(k) {
                 return None;
             }

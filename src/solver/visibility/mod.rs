@@ -197,6 +197,17 @@ impl VisibilityPass {
     ) -> Result<Self, GlError> {
         let gl = &ctx.gl;
         let scene_size = scene.size();
+        // Passes of several shooters walk every side (`Tuning::walk_up_to`): the reach the walk
+        // finds lets their reconstruction skip most of the atlas, which a drawn slot forfeits
+        // for the whole pass.
+        let tuning = if slots > 1 {
+            Tuning {
+                walk_up_to: 0,
+                ..tuning
+            }
+        } else {
+            tuning
+        };
         let vertex = match kind {
             VisibilityKind::Hemisphere => glsl!("hemiproj.vert"),
             VisibilityKind::Hemicube => glsl!("hemicube.vert"),
