@@ -261,6 +261,7 @@ fn zdm2_loads_from_its_obj_and_its_gltf_as_the_same_level() {
                 ke: [1.0, 1.0, 1.0],
             }],
             keep_faces: true,
+            ..Default::default()
         };
         load_file_with(p, &options).unwrap()
     };
