@@ -82,7 +82,7 @@ ivec2 item_texel(vec3 d, int k)
         return clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);
     }
     // Hemicube: the face of the largest component; faces are stacked left to right. Each face's
-    // (x, y, depth) is d's components permuted and signed as `face_rotations` (visibility.rs)
+    // (x, y, depth) is d's components permuted and signed as `face_rotations` (src/solver/visibility/mod.rs)
     // rotates them: front (d.x, d.y, -d.z), +x (d.z, d.y, d.x), -x (-d.z, d.y, -d.x),
     // +y (d.x, d.z, d.y), -y (-d.x, d.z, -d.y). Selects, not a dynamically indexed matrix array:
     // llvmpipe gathers such an array lane by lane.

@@ -13,7 +13,7 @@
 //! the scene's mean reflectance ρ̄ (per colour channel).
 //!
 //! What a polygon is predicted to shoot later, ρ_p · A_p / ΣA / (1 − ρ̄) times what the others
-//! hold, is never more than half of what they hold ([`MAX_SHARE`]). At a share of 1 or more (white
+//! hold, is never more than half of what they hold (`MAX_SHARE`). At a share of 1 or more (white
 //! walls, each a fifth of an open box's area) every polygon can hold a remainder that the others'
 //! remainders account for while the unshot power by magnitude is anything: positive walls wait for
 //! negative light, negative ones for positive light, and none is picked, as its shot would move

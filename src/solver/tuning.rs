@@ -124,7 +124,7 @@ pub struct Tuning {
     /// plane as the GPU clips it, no margins), and the pass uploads those IDs into the
     /// item-buffer texture with glTexSubImage2D. llvmpipe is a CPU too: drawing cost the
     /// issuing thread Mesa's vertex, clipping and set-up path and the rasteriser threads their
-    /// share, two thirds of Lost Empire's visibility pass (docs/perf-log.md). The pixels differ
+    /// share, about 60 % of the CPU time of Lost Empire's visibility pass (docs/perf-log.md). The pixels differ
     /// from drawn ones only where a centre lies on an edge, which the GPU's fill rule gives to
     /// one side and the walk to the nearer (or first) polygon, and the answer moves as little
     /// as with the other depth-tie switches. Off: the views are drawn, as the paper draws them.
@@ -151,7 +151,7 @@ pub struct Tuning {
     /// a superset of those with a texel the shader finds visible: bit-identical.
     pub walk_receivers: bool,
     /// Reconstruction (with `walk_receivers`, several shooters a pass and the marking pass): the
-    /// blocks that two to seven of the pass's shooters may reach are shaded, for the sets of
+    /// blocks that two to four of the pass's shooters may reach are shaded, for the sets of
     /// shooters that reach the most blocks, by a program compiled for just those shooters,
     /// rather than by the one for every shooter of the pass. llvmpipe runs each shooter's
     /// visibility test and form factor for every fragment whatever they decide, and on Lost

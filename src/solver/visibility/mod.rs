@@ -43,7 +43,7 @@ use plates::Plates;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
-/// The visibility pass (3.2.2): the scene drawn from a shooter into an item buffer of polygon
+/// The visibility pass (3.2.1): the scene drawn from a shooter into an item buffer of polygon
 /// IDs, which the reconstruction pass reads to tell whether a receiver is seen.
 pub struct VisibilityPass {
     program: Program,
