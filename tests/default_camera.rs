@@ -64,16 +64,7 @@ fn seen_through_its_opening(name: &str, scene: &Scene, out: Vec3) {
 #[test]
 fn every_box_of_the_cornell_family_is_seen_through_its_open_front() {
     let mut paths = vec!["cornell-box/CornellBox-Original.obj".to_string()];
-    for variant in [
-        "Empty-White",
-        "Empty-RG",
-        "Empty-CO",
-        "Empty-Squashed",
-        "Sphere",
-        "Water",
-        "Glossy",
-        "Mirror",
-    ] {
+    for variant in CORNELL_FAMILY {
         paths.push(format!(
             "cornell-box-family/CornellBox-{variant}/CornellBox-{variant}.obj"
         ));

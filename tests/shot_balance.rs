@@ -113,18 +113,8 @@ fn every_shot_of_the_cornell_boxes_is_within_its_bound() {
 /// others held, and every wall sat at its remainder (`solver/overshoot.rs`, `MAX_SHARE`).
 #[test]
 fn every_box_of_the_cornell_family_solves_with_the_defaults_within_its_bound() {
-    const FAMILY: [&str; 8] = [
-        "Empty-White",
-        "Empty-RG",
-        "Empty-CO",
-        "Empty-Squashed",
-        "Sphere",
-        "Water",
-        "Glossy",
-        "Mirror",
-    ];
     let ctx = context();
-    for variant in FAMILY {
+    for variant in CORNELL_FAMILY {
         let name = format!("CornellBox-{variant}");
         let Some(path) = third_party(&format!("cornell-box-family/{name}/{name}.obj")) else {
             return;

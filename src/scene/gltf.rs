@@ -17,10 +17,10 @@
 
 use super::emission::LoadOptions;
 use super::error::{SceneError, MAX_KE};
-use super::files::{read_regular, shown, shown_path, MAX_OBJ_BYTES};
+use super::files::{shown, shown_path};
 use super::gltf_data::Buffers;
 use super::libraries::Materials;
-use super::load::{build_scene, Parsed};
+use super::load::{build_scene, read_scene_file, Parsed};
 use super::obj::{Face, ObjFile};
 use super::{Camera, Material, DEFAULT_MATERIAL};
 use glam::{Mat4, Vec3};
@@ -45,14 +45,7 @@ pub fn load_gltf(path: &Path) -> Result<super::Scene, SceneError> {
 
 /// [`load_gltf`] with `options` applied (emission overrides by material name, `--keep-faces`).
 pub fn load_gltf_with(path: &Path, options: &LoadOptions) -> Result<super::Scene, SceneError> {
-    let bytes = read_regular(path, MAX_OBJ_BYTES).map_err(|source| SceneError::Read {
-        path: shown_path(path),
-        source,
-    })?;
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
+    let (bytes, dir) = read_scene_file(path)?;
     let bad = |what: String| SceneError::Parse {
         path: shown_path(path),
         line: String::new(),

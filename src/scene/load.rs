@@ -19,6 +19,13 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
 /// [`load_obj`] with `options` applied (emission overrides) before the check that the scene
 /// emits light.
 pub fn load_obj_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
+    let (bytes, dir) = read_scene_file(path)?;
+    parse_scene(path, &decode(&bytes), &Folder(dir), options)
+}
+
+/// The scene file at `path` (within the size limit of every scene file), and the folder its
+/// relative references are read from (`.` for a bare file name).
+pub(super) fn read_scene_file(path: &Path) -> Result<(Vec<u8>, &Path), SceneError> {
     let bytes = read_regular(path, MAX_OBJ_BYTES).map_err(|source| SceneError::Read {
         path: shown_path(path),
         source,
@@ -27,7 +34,7 @@ pub fn load_obj_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneE
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    parse_scene(path, &decode(&bytes), &Folder(dir), options)
+    Ok((bytes, dir))
 }
 
 /// The scene in an OBJ text. `path` names it in messages and locates the MTL files it names,

@@ -215,6 +215,19 @@ pub fn third_party(path: &str) -> Option<PathBuf> {
     }
 }
 
+/// The variants of the archive's Cornell box family, each in
+/// `cornell-box-family/CornellBox-VARIANT/CornellBox-VARIANT.obj` (the Original is in `cornell-box/`).
+pub const CORNELL_FAMILY: [&str; 8] = [
+    "Empty-White",
+    "Empty-RG",
+    "Empty-CO",
+    "Empty-Squashed",
+    "Sphere",
+    "Water",
+    "Glossy",
+    "Mirror",
+];
+
 /// A third-party scene with `material` made an emitter of radiance `ke` (`--emit`), or `None`
 /// when the file is absent (see [`third_party`]).
 pub fn third_party_lit(path: &str, material: &str, ke: [f32; 3]) -> Option<Scene> {
