@@ -272,7 +272,10 @@ fn a_driver_that_differs_from_itself_fails() {
     assert_eq!(out.status.code(), Some(1), "{all}");
     let rows = rows(&String::from_utf8_lossy(&out.stdout));
     for driver in ["llvmpipe", "osmesa"] {
-        for (case, result) in [("cornell-accurate-walked", "FAIL"), ("shot-float-copy", "pass")] {
+        for (case, result) in [
+            ("cornell-accurate-walked", "FAIL"),
+            ("shot-float-copy", "pass"),
+        ] {
             assert!(
                 rows.iter()
                     .any(|(d, c, r)| d == driver && c == case && r == result),
