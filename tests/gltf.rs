@@ -36,15 +36,7 @@ fn a_room_loads_with_its_node_transforms_materials_and_camera() {
         + 0.5 * COLUMN_SIDES as f32 * 0.04 * (std::f32::consts::TAU / COLUMN_SIDES as f32).sin();
     let area = scene.total_area();
     assert!((area - (walls + lamp + column)).abs() < 1e-3, "{area}");
-    // Every wall faces the room's centre: the winding of the file kept its front.
-    let centre = Vec3::new(11.0, 1.0, 1.0);
-    for p in scene
-        .polygons
-        .iter()
-        .filter(|p| p.object.starts_with("room/"))
-    {
-        assert!(p.normal.dot(centre - p.centroid) > 0.0, "{}", p.object);
-    }
+    walls_face_the_centre(&scene);
     // Materials: 0.7 × the texture's mean (white and black: 0.5); emissive × strength 10.
     let m = |name: &str| scene.materials.iter().find(|m| m.name == name).unwrap();
     assert!(
@@ -111,14 +103,7 @@ fn emit_names_a_gltf_material_and_a_mirrored_node_keeps_its_front() {
         ..Default::default()
     };
     let scene = load_file_with(&path, &options).unwrap();
-    let centre = Vec3::new(11.0, 1.0, 1.0);
-    for p in scene
-        .polygons
-        .iter()
-        .filter(|p| p.object.starts_with("room/"))
-    {
-        assert!(p.normal.dot(centre - p.centroid) > 0.0, "{}", p.object);
-    }
+    walls_face_the_centre(&scene);
     assert_eq!(scene.light_count(), 7, "six walls and the lamp");
 }
 
@@ -304,4 +289,16 @@ fn zdm2_loads_from_its_obj_and_its_gltf_as_the_same_level() {
     let ratio = g.total_area() as f64 / (o.total_area() as f64 * 0.01);
     println!("zdm2: glTF corners on OBJ corners {share:.3}, area ratio {ratio:.3}");
     assert!((1.4..1.8).contains(&ratio), "{ratio}");
+}
+
+/// Every wall of the room faces its centre: the file's winding kept each wall's front.
+fn walls_face_the_centre(scene: &Scene) {
+    let centre = Vec3::new(11.0, 1.0, 1.0);
+    for p in scene
+        .polygons
+        .iter()
+        .filter(|p| p.object.starts_with("room/"))
+    {
+        assert!(p.normal.dot(centre - p.centroid) > 0.0, "{}", p.object);
+    }
 }

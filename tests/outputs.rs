@@ -4,6 +4,9 @@
 //! with status 1; the folder always holds one complete set and nothing else of ours; nothing
 //! outside it is touched.
 
+mod common;
+
+use common::snapshot;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
@@ -38,19 +41,6 @@ fn run(args: &[String]) -> Output {
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// Every entry of `dir`, with the contents of files.
-fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| {
-            let e = e.unwrap();
-            let name = e.file_name().to_string_lossy().into_owned();
-            let bytes = std::fs::read(e.path()).unwrap_or_default();
-            (name, bytes)
-        })
-        .collect()
 }
 
 fn names(dir: &Path) -> Vec<String> {

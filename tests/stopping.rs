@@ -3,6 +3,9 @@
 //! `"interrupted": true`, `"stopped": "interrupted"`, its unshot fraction); a second stops at once
 //! and keeps the earlier outputs; `--max-seconds` stops the loop and writes the set as any solve.
 
+mod common;
+
+use common::snapshot;
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader};
 use std::path::Path;
@@ -45,18 +48,6 @@ fn earlier_set(out: &Path) -> BTreeMap<String, Vec<u8>> {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     snapshot(out)
-}
-
-/// Every file of `dir` with its bytes.
-fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| {
-            let e = e.unwrap();
-            let name = e.file_name().to_string_lossy().into_owned();
-            (name, std::fs::read(e.path()).unwrap_or_default())
-        })
-        .collect()
 }
 
 /// The run, and its stderr lines as they come.

@@ -264,3 +264,16 @@ pub fn shooting_points(scene: &Scene, count: usize) -> Vec<(usize, Vec3)> {
     }
     points
 }
+
+/// Every entry of `dir` with the contents of its files (empty for a folder): what an output set
+/// holds, to compare before and after a run.
+pub fn snapshot(dir: &std::path::Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| {
+            let e = e.unwrap();
+            let name = e.file_name().to_string_lossy().into_owned();
+            (name, std::fs::read(e.path()).unwrap_or_default())
+        })
+        .collect()
+}
