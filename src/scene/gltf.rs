@@ -22,7 +22,7 @@ use super::gltf_data::Buffers;
 use super::libraries::Materials;
 use super::load::{build_scene, read_scene_file, Parsed};
 use super::obj::{Face, ObjFile};
-use super::{Camera, Material, DEFAULT_MATERIAL};
+use super::{Camera, Material, DEFAULT_GREY, DEFAULT_MATERIAL};
 use glam::{Mat4, Vec3};
 use gltf::mesh::Mode;
 use std::collections::HashMap;
@@ -386,7 +386,7 @@ fn read_materials(
     let of_name = (0..list.len()).collect();
     list.push(Material {
         name: DEFAULT_MATERIAL.into(),
-        kd: Vec3::splat(0.5),
+        kd: Vec3::splat(DEFAULT_GREY),
         ke: Vec3::ZERO,
     });
     Ok(Materials { list, of_name })

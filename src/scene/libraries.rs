@@ -8,7 +8,7 @@ use super::error::SceneError;
 use super::files::{decode, file_name, shown, shown_path, MaterialFiles};
 use super::mtl::{parse_mtl, Library};
 use super::obj::ObjFile;
-use super::{Material, DEFAULT_MATERIAL};
+use super::{Material, DEFAULT_GREY, DEFAULT_MATERIAL};
 use glam::Vec3;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -65,7 +65,7 @@ pub(super) fn load_libraries(
     let default = list.len();
     list.push(Material {
         name: DEFAULT_MATERIAL.into(),
-        kd: Vec3::splat(0.5),
+        kd: Vec3::splat(DEFAULT_GREY),
         ke: Vec3::ZERO,
     });
     let undefined: Vec<&str> = obj
@@ -106,6 +106,9 @@ fn report(file: &Path, lib: &Library, messages: &mut Vec<String>) {
     for c in &lib.clamped {
         messages.push(format!("warning: {c}"));
     }
+    if let Some(n) = textured_only_note(&lib.textured_only) {
+        messages.push(format!("note: {}: {n}", shown_path(file)));
+    }
     let more = lib.clamped_lines - lib.clamped.len();
     if more > 0 {
         messages.push(format!(
@@ -113,6 +116,21 @@ fn report(file: &Path, lib: &Library, messages: &mut Vec<String>) {
             shown_path(file)
         ));
     }
+}
+
+/// What happened to the materials that give their colour only as a texture (`mtl.rs`).
+fn textured_only_note(names: &[String]) -> Option<String> {
+    let first = names.first()?;
+    let which = match names.len() {
+        1 => format!("material '{first}' gives"),
+        2 => format!("materials '{first}' and '{}' give", names[1]),
+        n => format!("{n} materials ('{first}', '{}', …) give", names[1]),
+    };
+    Some(format!(
+        "{which} a colour only as a texture (`map_Kd`, no `Kd`): textures are not read (one \
+         mean over a texture that many faces share is no face's colour), so they reflect the \
+         default grey {DEFAULT_GREY}; add `Kd` lines to choose"
+    ))
 }
 
 /// Which of the `.mtl` files beside the scene (those not already `read`) define the `used`

@@ -43,6 +43,10 @@ pub fn load_file_with(path: &std::path::Path, options: &LoadOptions) -> Result<S
 /// not emit.
 pub const DEFAULT_MATERIAL: &str = "(default)";
 
+/// The reflectance of [`DEFAULT_MATERIAL`], and of materials that give their colour only as a
+/// texture (`mtl.rs`): a neutral grey, dark enough that a closed room of it converges.
+pub const DEFAULT_GREY: f32 = 0.5;
+
 use crate::geometry::{bounds, mean, sphere_around, Plane};
 use glam::Vec3;
 

@@ -1,12 +1,15 @@
 //! Material libraries (MTL). The solver uses three statements: `newmtl`, `Kd` (diffuse
 //! reflectance) and `Ke` (emitted radiance). Those are checked, since a typo in them would
 //! silently change the light; every other statement (`Ka`, `Ks`, `Ns`, `illum`, `map_Kd`, ...)
-//! is skipped whatever its values and counted for one summary line.
+//! is skipped whatever its values and counted for one summary line. A material without `Kd`
+//! reflects nothing, unless it has a texture (`map_Kd`): then the file does give it a colour,
+//! only not one the solver reads, and it reflects the default grey (a game level whose
+//! materials are all textures would otherwise be black under any light).
 
 use super::error::{SceneError, MAX_KE};
 use super::files::{excerpt, shown};
 use super::statements::{statements, three_numbers, Skipped, Statement};
-use super::Material;
+use super::{Material, DEFAULT_GREY};
 use glam::Vec3;
 use std::path::Path;
 
@@ -23,11 +26,15 @@ pub(super) struct Library {
     /// `Kd` lines clamped to 1, as messages (at most [`CLAMPS_SHOWN`]), and how many there were.
     pub clamped: Vec<String>,
     pub clamped_lines: usize,
+    /// The materials (escaped names) with `map_Kd` and no `Kd`, given [`DEFAULT_GREY`].
+    pub textured_only: Vec<String>,
 }
 
 /// Read an MTL text; `path` names it in messages.
 pub(super) fn parse_mtl(path: &Path, text: &str) -> Result<Library, SceneError> {
     let mut library = Library::default();
+    // Per material: whether it has a `Kd` line and whether it has a `map_Kd` one.
+    let mut colour: Vec<(bool, bool)> = Vec::new();
     for s in statements(text) {
         let bad = |what: String| SceneError::Parse {
             path: super::shown_path(path),
@@ -39,7 +46,9 @@ pub(super) fn parse_mtl(path: &Path, text: &str) -> Result<Library, SceneError> 
                 if s.rest.is_empty() {
                     return Err(bad("`newmtl` needs a material name".into()));
                 }
-                // A material without `Kd` reflects nothing, one without `Ke` emits nothing.
+                // A material without `Kd` reflects nothing (but see `map_Kd`), one without
+                // `Ke` emits nothing.
+                colour.push((false, false));
                 library.materials.push((
                     s.rest.to_string(),
                     Material {
@@ -60,6 +69,9 @@ pub(super) fn parse_mtl(path: &Path, text: &str) -> Result<Library, SceneError> 
                     material.ke = emission(&s).map_err(bad)?;
                 } else {
                     let kd = reflectance(&s).map_err(bad)?;
+                    if let Some(c) = colour.last_mut() {
+                        c.0 = true;
+                    }
                     if kd.max_element() > 1.0 {
                         library.clamped_lines += 1;
                         if library.clamped.len() < CLAMPS_SHOWN {
@@ -71,8 +83,24 @@ pub(super) fn parse_mtl(path: &Path, text: &str) -> Result<Library, SceneError> 
                     material.kd = kd.min(Vec3::ONE);
                 }
             }
-            other => library.skipped.add(other),
+            other => {
+                if other == "map_Kd" {
+                    if let Some(c) = colour.last_mut() {
+                        c.1 = true;
+                    }
+                }
+                library.skipped.add(other)
+            }
         }
+    }
+    for ((_, material), _) in library
+        .materials
+        .iter_mut()
+        .zip(&colour)
+        .filter(|(_, &(kd, map))| map && !kd)
+    {
+        material.kd = Vec3::splat(DEFAULT_GREY);
+        library.textured_only.push(material.name.clone());
     }
     Ok(library)
 }
@@ -143,6 +171,24 @@ mod tests {
              Tf ×1, Tr ×1, bump ×1, d ×1, illum ×1, 2 others)"
         );
         assert!(lib.clamped.is_empty());
+    }
+
+    #[test]
+    fn a_colour_given_only_as_a_texture_reflects_the_default_grey() {
+        let text = "newmtl tiles\nmap_Kd t.png\nnewmtl both\nmap_Kd t.png\nKd 0.2 0.3 0.4\n\
+                    newmtl lamp\nKe 1 1 1\nnewmtl late\nKd 0.1 0.1 0.1\nmap_Kd t.png\n";
+        let lib = parse(text).unwrap();
+        let kd: Vec<Vec3> = lib.materials.iter().map(|(_, m)| m.kd).collect();
+        assert_eq!(
+            kd,
+            [
+                Vec3::splat(DEFAULT_GREY),
+                Vec3::new(0.2, 0.3, 0.4),
+                Vec3::ZERO, // no texture, no `Kd`: reflects nothing, as before
+                Vec3::splat(0.1),
+            ]
+        );
+        assert_eq!(lib.textured_only, ["tiles"]);
     }
 
     #[test]
