@@ -189,15 +189,19 @@ fn touching(scene: &Scene, group: &[usize], tolerance: f32) -> Vec<Vec<usize>> {
 }
 
 /// The one shooter of cluster members `members` (each polygon with its unshot energy, Σ L·A RGB,
-/// of one sign: every channel ≥ 0, or every one ≤ 0; not all zero), owning no texels (the solver clears the members' own): it
-/// shoots their summed energy from the centroid of the member nearest their power-weighted
-/// centre, along that member's normal, with the rectangle around the members on their plane as
-/// its outline. `patches[p]` is polygon p's patch count. `None` when nothing is left to shoot.
-/// Its item-buffer side (`hemi_res`) and turn are the caller's to set (0 here).
+/// of one sign: every channel ≥ 0, or every one ≤ 0; not all zero), owning no texels (the solver
+/// clears the members' own): it shoots their summed energy from the centroid of the member
+/// nearest their power-weighted centre, along `normal` (a face cluster's mean normal,
+/// `face_clusters.rs`) or else that member's normal, with the rectangle around the members
+/// projected on the plane through that point as its outline (a flat emitter of their energy: by
+/// reciprocity it sends no more than it carries). `patches[p]` is polygon p's patch count.
+/// `None` when nothing is left to shoot. Its item-buffer side (`hemi_res`) and turn are the
+/// caller's to set (0 here).
 pub fn cluster_shooter(
     scene: &Scene,
     patches: &[u32],
     members: &[(usize, Vec3)],
+    normal: Option<Vec3>,
 ) -> Option<Shooter> {
     let weight = |e: Vec3| (e.x + e.y + e.z).abs() as f64;
     let total: f64 = members.iter().map(|&(_, e)| weight(e)).sum();
@@ -213,7 +217,7 @@ pub fn cluster_shooter(
         d(a).total_cmp(&d(b)).then(a.cmp(&b))
     })?;
     let polygon = &scene.polygons[lead];
-    let normal = polygon.normal;
+    let normal = normal.unwrap_or(polygon.normal);
     // (u, v, normal) is right-handed, so the rectangle's corners in (u, v) order run
     // counter-clockwise seen from the front.
     let (u, v) = normal.any_orthonormal_pair();
@@ -334,7 +338,7 @@ mod tests {
         let scene = floor(4);
         let layout = PatchLayout::new(&scene, Resolution::PatchSize(1.0));
         let members = [(0, Vec3::ONE), (5, Vec3::splat(3.0)), (15, Vec3::ONE)];
-        let s = cluster_shooter(&scene, &layout.patches_per_polygon, &members).unwrap();
+        let s = cluster_shooter(&scene, &layout.patches_per_polygon, &members, None).unwrap();
         assert_eq!(s.energy, Vec3::splat(5.0));
         assert_eq!(s.patches, 3);
         // The power-weighted centre is nearest polygon 5's centroid.
@@ -347,6 +351,6 @@ mod tests {
         assert!(c.iter().all(|p| p.y.abs() < 1e-5));
         let turn = (c[1] - c[0]).cross(c[2] - c[1]);
         assert!(turn.dot(Vec3::Y) > 0.0);
-        assert!(cluster_shooter(&scene, &[1; 17], &[]).is_none());
+        assert!(cluster_shooter(&scene, &[1; 17], &[], None).is_none());
     }
 }

@@ -94,6 +94,30 @@ impl PartialOrd for Candidate {
     }
 }
 
+/// A cone this narrow (radians) counts as flat (`FaceClusters::shot_of`).
+pub const FLAT: f32 = 1e-3;
+
+/// The error bound of a face cluster's shot (`FaceClusters::shot_of`), as the solver's options
+/// set it (`SolveOptions::face_clusters`).
+#[derive(Clone, Copy, Debug)]
+pub struct Bound {
+    /// The most power a shot may misdirect ([`misdirected`]), and below which it may reach
+    /// `coarse_reach` (as a polygon's coarse cells): `cut_above` × the emitted power.
+    pub power: f64,
+    /// The widest extent (scene units, on every axis) of a cluster carrying more than `power`:
+    /// the ordinary shooter cell.
+    pub fine_reach: f32,
+}
+
+impl Bound {
+    /// Whether `node` may shoot as one carrying `power` (its shooting members' unshot power).
+    pub fn allows(&self, node: &Node, power: f64) -> bool {
+        let extent = (node.hi - node.lo).max_element();
+        misdirected(node.cone, power) <= self.power
+            && (power < self.power || extent <= self.fine_reach)
+    }
+}
+
 /// The power, of `power` shot by a cluster of cone half-angle `cone` from its mean plane, that
 /// may go in other directions than its members would send it: a member's cosine towards any
 /// receiver differs from the mean plane's by at most the sine of the angle between their normals.
@@ -261,21 +285,60 @@ impl FaceClusters {
         out
     }
 
-    /// The largest cluster of two or more polygons that holds `p` and that `allows` (with every
-    /// smaller one on the way up from `p`'s leaf): the node a shot of `p` would shoot, or `None`
-    /// when `p` should shoot alone. `allows` should grow stricter up the tree (a larger cluster
-    /// carries more power and has a wider cone, as [`misdirected`] does).
-    pub fn shooting_cluster(&self, p: usize, allows: impl Fn(&Node) -> bool) -> Option<u32> {
+    /// The largest cluster of two or more polygons that holds `p` and that `allows` (given the
+    /// node's index and the node; with every smaller one on the way up from `p`'s leaf): the node
+    /// a shot of `p` would shoot, or `None` when `p` should shoot alone. `allows` should grow
+    /// stricter up the tree (a larger cluster carries more power and has a wider cone, as
+    /// [`misdirected`] does).
+    pub fn shooting_cluster(&self, p: usize, allows: impl Fn(u32, &Node) -> bool) -> Option<u32> {
         let mut at = self.leaf_of(p)?;
         let mut best = None;
         while let Some(up) = self.nodes[at as usize].parent {
-            if !allows(&self.nodes[up as usize]) {
+            if !allows(up, &self.nodes[up as usize]) {
                 break;
             }
             best = Some(up);
             at = up;
         }
         best
+    }
+
+    /// The shot of `p` with its face cluster: the members that shoot (`p` among them) and the
+    /// cluster's mean normal, or `None` when `p` shoots alone or the cluster its bound allows is
+    /// flat (its cone 0: the coplanar clusters of `clusters.rs` take those, as without face
+    /// clusters). `power(q)` is what polygon q would carry in this shot (its unshot power by
+    /// magnitude), `None` when q may not shoot now (taken by the step, or of the other sign).
+    /// The bound ([`Bound::allows`]): the largest cluster whose shooting members are at least
+    /// two and whose misdirected power is within the bound; refining a cluster that is not
+    /// allowed is the walk stopping at a child.
+    pub fn shot_of(
+        &self,
+        p: usize,
+        power: impl Fn(usize) -> Option<f64>,
+        bound: &Bound,
+    ) -> Option<(Vec<usize>, Vec3)> {
+        let shooting = |node: u32| -> (Vec<usize>, f64) {
+            let (mut members, mut sum) = (Vec::new(), 0.0);
+            for q in self.members(node) {
+                if let Some(w) = power(q) {
+                    members.push(q);
+                    sum += w;
+                }
+            }
+            (members, sum)
+        };
+        let node = self.shooting_cluster(p, |id, node| {
+            let (members, sum) = shooting(id);
+            members.len() >= 2 && bound.allows(node, sum)
+        })?;
+        let n = &self.nodes[node as usize];
+        // A flat cluster's normals agree to a thousandth of a radian (`angle` reads 0 for
+        // parallel ones): those shoot as before.
+        if n.cone <= FLAT {
+            return None;
+        }
+        let (members, _) = shooting(node);
+        members.contains(&p).then(|| (members, n.normal()))
     }
 
     /// Clusters of two or more polygons that were merged into nothing larger (the roots).
@@ -444,7 +507,7 @@ mod tests {
         let alone = scene.polygons.len() - 1;
         let leaf = c.leaf_of(alone).unwrap();
         assert_eq!(c.nodes()[leaf as usize].parent, None);
-        assert_eq!(c.shooting_cluster(alone, |_| true), None);
+        assert_eq!(c.shooting_cluster(alone, |_, _| true), None);
         // With side 1, only polygons of one patch are leaves: the column's facets (0.26 × 0.25)
         // are, the caps' triangles too; nothing larger than a patch.
         let one = FaceClusters::new(&scene, &layout, 1, 30f32.to_radians());
@@ -465,14 +528,14 @@ mod tests {
         let layout = PatchLayout::new(&scene, Resolution::PatchSize(0.2));
         let c = FaceClusters::new(&scene, &layout, 8, 20f32.to_radians());
         let p = 100;
-        let all = c.shooting_cluster(p, |_| true).unwrap();
+        let all = c.shooting_cluster(p, |_, _| true).unwrap();
         assert_eq!(c.nodes()[all as usize].parent, None);
         assert!(c.members(all).contains(&p));
-        assert_eq!(c.shooting_cluster(p, |_| false), None);
+        assert_eq!(c.shooting_cluster(p, |_, _| false), None);
         // A bound on what may go astray: a shot of power 1 allows 0.1 misdirected; the node is
         // the largest within it, and its parent is not.
         let allows = |n: &Node| misdirected(n.cone, 1.0) <= 0.1;
-        let node = c.shooting_cluster(p, allows).unwrap();
+        let node = c.shooting_cluster(p, |_, n| allows(n)).unwrap();
         assert!(allows(&c.nodes()[node as usize]));
         if let Some(up) = c.nodes()[node as usize].parent {
             assert!(!allows(&c.nodes()[up as usize]));
