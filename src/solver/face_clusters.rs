@@ -308,9 +308,9 @@ impl FaceClusters {
     /// flat (its cone 0: the coplanar clusters of `clusters.rs` take those, as without face
     /// clusters). `power(q)` is what polygon q would carry in this shot (its unshot power by
     /// magnitude), `None` when q may not shoot now (taken by the step, or of the other sign).
-    /// The bound ([`Bound::allows`]): the largest cluster whose shooting members are at least
-    /// two and whose misdirected power is within the bound; refining a cluster that is not
-    /// allowed is the walk stopping at a child.
+    /// The bound ([`Bound::allows`]): the largest cluster whose misdirected power is within the
+    /// bound, if at least two of its members shoot; refining a cluster that is not allowed is
+    /// the walk stopping at a child.
     pub fn shot_of(
         &self,
         p: usize,
@@ -327,10 +327,7 @@ impl FaceClusters {
             }
             (members, sum)
         };
-        let node = self.shooting_cluster(p, |id, node| {
-            let (members, sum) = shooting(id);
-            members.len() >= 2 && bound.allows(node, sum)
-        })?;
+        let node = self.shooting_cluster(p, |id, node| bound.allows(node, shooting(id).1))?;
         let n = &self.nodes[node as usize];
         // A flat cluster's normals agree to a thousandth of a radian (`angle` reads 0 for
         // parallel ones): those shoot as before.
@@ -338,7 +335,7 @@ impl FaceClusters {
             return None;
         }
         let (members, _) = shooting(node);
-        members.contains(&p).then(|| (members, n.normal()))
+        (members.len() >= 2 && members.contains(&p)).then(|| (members, n.normal()))
     }
 
     /// Clusters of two or more polygons that were merged into nothing larger (the roots).
@@ -544,5 +541,54 @@ mod tests {
         // Misdirected power grows with the cone.
         assert_eq!(misdirected(0.0, 1.0), 0.0);
         assert!(misdirected(0.2, 1.0) > misdirected(0.1, 1.0));
+    }
+
+    #[test]
+    fn a_shot_is_refined_as_its_power_grows_and_flat_clusters_are_left_alone() {
+        let scene = test_scene(cylinder(48, 16, 0.125));
+        let layout = PatchLayout::new(&scene, Resolution::PatchSize(0.2));
+        let c = FaceClusters::new(&scene, &layout, 8, 20f32.to_radians());
+        let p = 100;
+        let bound = Bound {
+            power: 1.0,
+            fine_reach: 4.0 * 0.2,
+        };
+        // Each facet carries `w`: the larger the shot, the smaller the cluster the bound allows,
+        // down to none (the facet shoots alone).
+        let sizes: Vec<usize> = [1e-3, 1e-2, 0.05, 0.2, 10.0]
+            .iter()
+            .map(|&w| {
+                c.shot_of(p, |_| Some(w), &bound)
+                    .map_or(1, |(m, _)| m.len())
+            })
+            .collect();
+        assert!(sizes.windows(2).all(|s| s[1] <= s[0]), "{sizes:?}");
+        assert!(sizes[0] >= 12 && sizes[4] == 1, "{sizes:?}");
+        // The members that may not shoot now stay out; the rest still hold p.
+        let (all, normal) = c.shot_of(p, |_| Some(1e-3), &bound).unwrap();
+        let odd = |q: usize| q % 2 == 1 || q == p;
+        let (some, _) = c.shot_of(p, |q| odd(q).then_some(1e-3), &bound).unwrap();
+        assert!(some.contains(&p) && some.iter().all(|&q| odd(q)) && some.len() < all.len());
+        // Within the bound: what may go astray of the members' power along the mean normal.
+        let node = c.shooting_cluster(p, |_, _| true).unwrap();
+        assert!(normal.dot(c.nodes()[node as usize].normal()) > 0.9);
+        // A flat floor's cluster is the coplanar clusters' to shoot.
+        let flat = test_scene(
+            (0..16)
+                .map(|i| {
+                    let o = Vec3::new((i % 4) as f32, 0.0, (i / 4) as f32);
+                    Polygon::new(
+                        vec![o, o + Vec3::Z, o + Vec3::X + Vec3::Z, o + Vec3::X],
+                        0,
+                        "t".into(),
+                    )
+                    .unwrap()
+                })
+                .collect(),
+        );
+        let flat_layout = PatchLayout::new(&flat, Resolution::PatchSize(1.0));
+        let f = FaceClusters::new(&flat, &flat_layout, 8, 20f32.to_radians());
+        assert!(f.shooting_cluster(0, |_, _| true).is_some());
+        assert_eq!(f.shot_of(0, |_| Some(1e-3), &bound), None);
     }
 }
