@@ -1,12 +1,15 @@
-//! Beyond the paper, a first step towards shooting from clusters of non-coplanar faces (issue 58;
-//! face-cluster radiosity, Willmott, Heckbert & Garland 1999): a hierarchy over the small
-//! polygons of curved surfaces, each node a set of touching polygons whose normals stay within a
-//! cone. Not used by the loop yet. The shot it is for: a small polygon picked by Find_Max_Energy
-//! shoots with the largest cluster around it whose [`misdirected`] power is within the shot's
-//! bound, as one `Shooter` (the members' summed energy, cleared before the passes and counted as
-//! carried in the books, as `clusters.rs`'s are), from the member nearest the power-weighted
-//! centre, along the mean normal, with the members' rectangle on that plane as the form factor's
-//! outline; by reciprocity it delivers no more than it carries, and only its direction errs.
+//! Beyond the paper, behind `SolveOptions::face_clusters` (`--face-clusters`; issue 58):
+//! shooting from clusters of non-coplanar faces (face-cluster radiosity, Willmott, Heckbert &
+//! Garland 1999). A hierarchy over the small polygons of curved surfaces, each node a set of
+//! touching polygons whose normals stay within a cone. A small polygon picked by
+//! Find_Max_Energy shoots with the largest cluster around it that its error bound allows
+//! ([`FaceClusters::shot_of`], [`Bound`]: the [`misdirected`] power within `cut_above` of the
+//! emitted power), as one `Shooter` (`Solver::cluster_of`: the members' summed energy, cleared
+//! before the passes and counted as carried in the books, as `clusters.rs`'s are), from the
+//! member nearest the power-weighted centre, along the mean normal, with the members' rectangle
+//! on that plane as the form factor's outline; by reciprocity it delivers no more than it
+//! carries, and only its direction errs. Flat clusters are left to `clusters.rs`, so a scene
+//! without small non-coplanar polygons shoots as without.
 //!
 //! Why: `clusters.rs` groups only coplanar neighbours, so every facet of a column, a chair's seat
 //! or a vault shoots alone, with its own visibility pass. Neighbouring facets whose normals
