@@ -329,3 +329,54 @@ fn coplanar_tiles_shoot_as_without_and_the_paper_never_clusters_faces() {
         .is_none());
     assert!(!SolveOptions::accurate().face_clusters && !SolveOptions::paper().face_clusters);
 }
+
+/// The archive's `CornellBox-Water` (6,259 polygons, most of them the water's small facets) as
+/// `radiosity solve FILE --face-clusters` solves it: every shot's books balanced, fewer shots
+/// and passes than without, and the picture's radiance close to the solve without.
+#[test]
+fn the_water_box_solves_in_fewer_passes_with_every_shot_within_its_bound() {
+    let name = "CornellBox-Water";
+    let Some(path) = third_party(&format!("cornell-box-family/{name}/{name}.obj")) else {
+        return;
+    };
+    let scene = load_obj(&path).unwrap();
+    let layout = PatchLayout::new(
+        &scene,
+        gpu_radiosity::pipeline::resolution(&scene, None, None),
+    );
+    let ctx = context();
+    let solve = |on: bool| {
+        let mut solver = GpuSolver::new(&ctx, &scene, &layout, options(on)).unwrap();
+        solver.solve(|_| {}).unwrap();
+        summary(if on { "water, face clusters" } else { "water" }, &solver)
+    };
+    let (shots_off, passes_off, _, off) = solve(false);
+    let (shots_on, passes_on, face_on, on) = solve(true);
+    assert!(face_on > 0);
+    // Measured: 1,563 shots in 728 passes without, 258 in 278 with.
+    assert!(
+        passes_on * 2 < passes_off,
+        "passes {passes_on} against {passes_off}"
+    );
+    assert!(
+        shots_on * 3 < shots_off,
+        "shots {shots_on} against {shots_off}"
+    );
+    let d = relative_differences(&on, &off);
+    let q = |f: f64| d[((d.len() - 1) as f64 * f) as usize];
+    let total = |a: &[f32]| {
+        a.chunks_exact(4)
+            .filter(|t| t[3] > 0.0)
+            .map(mean)
+            .sum::<f64>()
+    };
+    let (a, b) = (total(&on), total(&off));
+    println!(
+        "water: face clusters against none, median {:.3} %, 95th {:.3} %, sum of radiance {:+.3} %",
+        100.0 * q(0.5),
+        100.0 * q(0.95),
+        100.0 * (a - b) / b
+    );
+    assert!((a - b).abs() < 0.01 * b, "{a} against {b}");
+    assert!(q(0.5) < 0.01, "median {}", q(0.5));
+}
