@@ -299,12 +299,15 @@ fn gpu_and_cpu_agree_with_face_clusters() {
 #[test]
 fn coplanar_tiles_shoot_as_without_and_the_paper_never_clusters_faces() {
     let dir = scratch("tiles");
-    let scene = load_obj(&write_tiled_room(&dir, 16)).unwrap();
+    // 32 × 32 tiles: polygons of 3.5 patches on average, so the hierarchy is built (the rooms
+    // of larger polygons, such as Table 1's, build none: `clusters::small_polygons`).
+    let scene = load_obj(&write_tiled_room(&dir, 32)).unwrap();
     std::fs::remove_dir_all(&dir).ok();
     let layout = PatchLayout::new(&scene, Resolution::PatchSize(1.0));
     let ctx = context();
     let solve = |on: bool| {
         let mut solver = GpuSolver::new(&ctx, &scene, &layout, options(on)).unwrap();
+        assert_eq!(solver.face_clusters().is_some(), on);
         solver.solve(|_| {}).unwrap();
         assert_eq!(solver.face_cluster_shots(), 0);
         (solver.shots(), solver.passes(), solver.radiosity_atlas())
@@ -328,6 +331,13 @@ fn coplanar_tiles_shoot_as_without_and_the_paper_never_clusters_faces() {
         .face_clusters()
         .is_none());
     assert!(!SolveOptions::accurate().face_clusters && !SolveOptions::paper().face_clusters);
+    // The simple Table 1 room (9 patches a polygon) builds none either.
+    let simple = load("simple");
+    let layout = PatchLayout::new(&simple, Resolution::PatchSize(simple.patch_size.unwrap()));
+    assert!(CpuSolver::new(&simple, &layout, options(true), 1)
+        .unwrap()
+        .face_clusters()
+        .is_none());
 }
 
 /// The archive's `CornellBox-Water` (6,259 polygons, most of them the water's small facets) as
@@ -353,7 +363,8 @@ fn the_water_box_solves_in_fewer_passes_with_every_shot_within_its_bound() {
     let (shots_off, passes_off, _, off) = solve(false);
     let (shots_on, passes_on, face_on, on) = solve(true);
     assert!(face_on > 0);
-    // Measured: 1,563 shots in 728 passes without, 258 in 278 with.
+    // Measured: 1,563 shots in 728 passes without, 258 in 278 with; patch by patch the median
+    // difference 0.007 %, the 95th percentile 0.085 %, the sum of radiance −0.001 %.
     assert!(
         passes_on * 2 < passes_off,
         "passes {passes_on} against {passes_off}"

@@ -66,10 +66,7 @@ impl Clusters {
     /// A scene of large polygons ([`AVERAGE_PATCHES`]) has none.
     pub fn new(scene: &Scene, layout: &PatchLayout, fine: u32, coarse: u32) -> Clusters {
         let n = scene.polygons.len();
-        // The scene's own polygons decide: the sky (`--sky`) has one patch to a quad.
-        let own = scene.own_polygons().len();
-        let patches = layout.patch_count() - (n - own) as u64;
-        if coarse == 0 || own == 0 || patches as f64 / own as f64 > AVERAGE_PATCHES {
+        if coarse == 0 || !small_polygons(scene, layout) {
             return Clusters::none(n);
         }
         let fine = if fine == 0 || fine >= coarse {
@@ -105,6 +102,15 @@ impl Clusters {
     pub fn clustered_polygons(&self) -> usize {
         self.coarse.members.iter().map(Vec::len).sum()
     }
+}
+
+/// Whether `scene`'s own polygons average at most [`AVERAGE_PATCHES`] patches (`layout`): only
+/// then do its small polygons shoot in clusters, coplanar or not (`face_clusters.rs`).
+pub fn small_polygons(scene: &Scene, layout: &PatchLayout) -> bool {
+    // The scene's own polygons decide: the sky (`--sky`) has one patch to a quad.
+    let own = scene.own_polygons().len();
+    let patches = layout.patch_count() - (scene.polygons.len() - own) as u64;
+    own > 0 && patches as f64 / own as f64 <= AVERAGE_PATCHES
 }
 
 impl Level {

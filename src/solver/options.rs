@@ -127,7 +127,8 @@ pub struct SolveOptions {
     /// polygon shoots with the largest cluster of touching non-coplanar neighbours around it
     /// (normals within [`FACE_CONE_DEGREES`], bounds within `cluster_cell` patches) whose
     /// misdirected power stays within `cut_above` of the emitted power (`face_clusters.rs`).
-    /// Needs `shooter_cell`, `cluster_cell` and `cut_above` (so never in the paper's mode).
+    /// Needs `shooter_cell`, `cluster_cell` and `cut_above` (so never in the paper's mode), and
+    /// only in scenes whose polygons average at most `clusters::AVERAGE_PATCHES` patches.
     pub face_clusters: bool,
 }
 
