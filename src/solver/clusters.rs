@@ -197,9 +197,10 @@ fn touching(scene: &Scene, group: &[usize], tolerance: f32) -> Vec<Vec<usize>> {
 /// The one shooter of cluster members `members` (each polygon with its unshot energy, Σ L·A RGB,
 /// of one sign: every channel ≥ 0, or every one ≤ 0; not all zero), owning no texels (the solver
 /// clears the members' own): it shoots their summed energy from the centroid of the member
-/// nearest their power-weighted centre, along `normal` (a face cluster's mean normal,
-/// `face_clusters.rs`) or else that member's normal, with the rectangle around the members
-/// projected on the plane through that point as its outline (a flat emitter of their energy: by
+/// nearest their power-weighted centre (raised along a face cluster's `normal` to the highest
+/// member corner), along `normal` (a face cluster's mean normal, `face_clusters.rs`) or else
+/// that member's normal, with the rectangle around the members projected on the plane through
+/// that point as its outline (a flat emitter of their energy: by
 /// reciprocity it sends no more than it carries). `patches[p]` is polygon p's patch count.
 /// `None` when nothing is left to shoot. Its item-buffer side (`hemi_res`) and turn are the
 /// caller's to set (0 here).
@@ -223,6 +224,7 @@ pub fn cluster_shooter(
         d(a).total_cmp(&d(b)).then(a.cmp(&b))
     })?;
     let polygon = &scene.polygons[lead];
+    let given = normal;
     let normal = normal.unwrap_or(polygon.normal);
     // (u, v, normal) is right-handed, so the rectangle's corners in (u, v) order run
     // counter-clockwise seen from the front.
@@ -235,7 +237,18 @@ pub fn cluster_shooter(
             hi = hi.max(at);
         }
     }
-    let plane = normal * normal.dot(polygon.centroid);
+    // A face cluster's point is raised along its mean normal to its highest member corner: from
+    // the lead's centroid, a convex cluster's light towards receivers between the lead's plane
+    // and the mean plane was blocked by the cluster itself (the living room's small shots
+    // delivered 2 points less of what they carried); above every member nothing of it is.
+    let lift = (given.is_some() && members.len() > 1).then(|| {
+        let height = |p: usize| scene.polygons[p].vertices.iter();
+        (members.iter().flat_map(|&(p, _)| height(p)))
+            .map(|&x| (x - polygon.centroid).dot(normal))
+            .fold(0f32, f32::max)
+    });
+    let position = polygon.centroid + normal * lift.unwrap_or(0.0);
+    let plane = normal * normal.dot(position);
     let mut corners = [Vec3::ZERO; MAX_CORNERS];
     for (c, (a, b)) in
         corners
@@ -249,7 +262,7 @@ pub fn cluster_shooter(
         polygon: lead,
         texels: [0; 4],
         patches: members.iter().map(|&(p, _)| patches[p]).sum(),
-        position: polygon.centroid,
+        position,
         normal,
         energy,
         corners,
