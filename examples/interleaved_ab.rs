@@ -7,7 +7,7 @@
 //! `cargo run --release --example interleaved_ab -- SCENE.obj SHOTS A B`, where A and B are
 //! comma-separated changes to the fast configuration (`SolveOptions::whole_polygons`):
 //! `base` (none), `paper` (the paper-faithful row's options), `accurate` (`radiosity solve`'s
-//! default mode), `kN` (N shooters per pass),
+//! default mode), `kN` (N shooters per pass), `fc` (`SolveOptions::face_clusters`),
 //! `no-overshoot`, `small=N` (the small shots' item-buffer side), `min=N` (the smallest shots'
 //! side, `SolveOptions::min_hemi_res`), `mark=N` (`Tuning::marking_below`), `walk=N`
 //! (`Tuning::walk_up_to`, 0: the walk at every side), `gpu` (the GPU profile), or `-SWITCH` to
@@ -42,6 +42,7 @@ fn configuration(changes: &str) -> SolveOptions {
             "accurate" => o = SolveOptions::accurate(),
             k if k.starts_with('k') => o.shooters_per_pass = k[1..].parse().expect("kN: a count"),
             "no-overshoot" => o.overshoot = false,
+            "fc" => o.face_clusters = true,
             small if small.starts_with("small=") => {
                 o.small_hemi_res = small[6..].parse().expect("small=N: a resolution")
             }
@@ -158,6 +159,40 @@ fn main() {
         seconds[1],
         shot(1),
         seconds[1] / seconds[0]
+    );
+    println!(
+        "passes: A {}, B {}; unshot: A {:.5}, B {:.5}; face-cluster steps: A {}, B {}",
+        solvers[0].passes(),
+        solvers[1].passes(),
+        solvers[0].unshot_fraction(),
+        solvers[1].unshot_fraction(),
+        solvers[0].face_cluster_shots(),
+        solvers[1].face_cluster_shots()
+    );
+    // Options that change the answer: how far B's radiance is from A's, patch by patch
+    // (|B − A| / A, A at least 1e-3) and in sum.
+    let (a, b) = (solvers[0].radiosity_atlas(), solvers[1].radiosity_atlas());
+    let mean = |t: &[f32]| (t[0] as f64 + t[1] as f64 + t[2] as f64) / 3.0;
+    let mut d: Vec<f64> = (a.chunks_exact(4).zip(b.chunks_exact(4)))
+        .filter(|(a, _)| a[3] > 0.0)
+        .map(|(a, b)| (mean(b) - mean(a)).abs() / mean(a).max(1e-3))
+        .collect();
+    d.sort_by(f64::total_cmp);
+    let q = |f: f64| 100.0 * d[((d.len() - 1) as f64 * f) as usize];
+    let sum = |x: &[f32]| {
+        x.chunks_exact(4)
+            .filter(|t| t[3] > 0.0)
+            .map(mean)
+            .sum::<f64>()
+    };
+    println!(
+        "B against A, patch by patch: median {:.3} %, 90th {:.3} %, 95th {:.3} %, 99th {:.3} %; \
+         sum of radiance {:+.3} %",
+        q(0.5),
+        q(0.9),
+        q(0.95),
+        q(0.99),
+        100.0 * (sum(&b) - sum(&a)) / sum(&a)
     );
     let marked = |k: usize| solvers[k].backend().reconstruction.marked_passes;
     println!(

@@ -272,6 +272,8 @@ pub struct Solution {
     pub clustered_polygons: usize,
     /// Shots in which a cluster shot (each one shot).
     pub cluster_shots: u32,
+    /// Of those, the shots in which a face cluster shot (`SolveOptions::face_clusters`).
+    pub face_cluster_shots: u32,
 }
 
 impl Solution {
@@ -287,6 +289,7 @@ impl Solution {
             clusters: solver.clusters().count(),
             clustered_polygons: solver.clusters().clustered_polygons(),
             cluster_shots: solver.cluster_shots(),
+            face_cluster_shots: solver.face_cluster_shots(),
             unshot_fraction: solver.unshot_fraction(),
             emitted_power: solver.emitted_power(),
             pass_seconds: solver.times().clone(),
@@ -490,6 +493,8 @@ pub struct Stats {
     pub clustered_polygons: usize,
     /// Shots in which a cluster shot (each one shot).
     pub cluster_shots: u32,
+    /// Of those, the shots in which a face cluster shot (`SolveOptions::face_clusters`).
+    pub face_cluster_shots: u32,
     /// Seconds of the solve loop (loading, layout and images not counted).
     pub solve_seconds: f64,
     /// Peak resident memory of the process when the statistics were made, MiB (0 where the
@@ -610,6 +615,7 @@ impl Stats {
             clusters: solution.clusters,
             clustered_polygons: solution.clustered_polygons,
             cluster_shots: solution.cluster_shots,
+            face_cluster_shots: solution.face_cluster_shots,
             solve_seconds: solution.solve_seconds(),
             peak_memory_mib: peak_memory_mib(),
             threads: run.threads,

@@ -168,6 +168,14 @@ pub struct SolveArgs {
     /// pass (0: no limit). Mode default: paper 0, accurate 50,000,000.
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub shot_triangles: Option<u64>,
+    /// Beyond the paper, for fewer shots on curved surfaces of many small faces: a small
+    /// polygon shoots together with touching neighbours whose normals lie within 20° of their
+    /// mean, as long as the power that may go astray stays below --cut-above of the emitted
+    /// power (needs --shooter-cell, --cluster-cell and --cut-above above 0, so nothing in
+    /// --mode paper; only in scenes of polygons of at most 4 patches on average).
+    /// `--face-clusters` or `--face-clusters true|false`. Default off.
+    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
+    pub face_clusters: Option<bool>,
     /// Make the material NAME emit light: emitted radiance R,G,B, as `Ke` in the MTL file (each 0
     /// to 1e15; 0,0,0 turns an emitter off). Repeatable.
     #[arg(long, value_name = "NAME=R,G,B", value_parser = values::emission, allow_hyphen_values = true)]
@@ -272,6 +280,7 @@ impl SolveArgs {
             coarse_cell: self.coarse_cell.unwrap_or(base.coarse_cell),
             cluster_cell: self.cluster_cell.unwrap_or(base.cluster_cell),
             shot_triangles: self.shot_triangles.unwrap_or(base.shot_triangles),
+            face_clusters: self.face_clusters.unwrap_or(base.face_clusters),
         }
     }
 

@@ -66,10 +66,7 @@ impl Clusters {
     /// A scene of large polygons ([`AVERAGE_PATCHES`]) has none.
     pub fn new(scene: &Scene, layout: &PatchLayout, fine: u32, coarse: u32) -> Clusters {
         let n = scene.polygons.len();
-        // The scene's own polygons decide: the sky (`--sky`) has one patch to a quad.
-        let own = scene.own_polygons().len();
-        let patches = layout.patch_count() - (n - own) as u64;
-        if coarse == 0 || own == 0 || patches as f64 / own as f64 > AVERAGE_PATCHES {
+        if coarse == 0 || !small_polygons(scene, layout) {
             return Clusters::none(n);
         }
         let fine = if fine == 0 || fine >= coarse {
@@ -105,6 +102,15 @@ impl Clusters {
     pub fn clustered_polygons(&self) -> usize {
         self.coarse.members.iter().map(Vec::len).sum()
     }
+}
+
+/// Whether `scene`'s own polygons average at most [`AVERAGE_PATCHES`] patches (`layout`): only
+/// then do its small polygons shoot in clusters, coplanar or not (`face_clusters.rs`).
+pub fn small_polygons(scene: &Scene, layout: &PatchLayout) -> bool {
+    // The scene's own polygons decide: the sky (`--sky`) has one patch to a quad.
+    let own = scene.own_polygons().len();
+    let patches = layout.patch_count() - (scene.polygons.len() - own) as u64;
+    own > 0 && patches as f64 / own as f64 <= AVERAGE_PATCHES
 }
 
 impl Level {
@@ -189,15 +195,20 @@ fn touching(scene: &Scene, group: &[usize], tolerance: f32) -> Vec<Vec<usize>> {
 }
 
 /// The one shooter of cluster members `members` (each polygon with its unshot energy, Σ L·A RGB,
-/// of one sign: every channel ≥ 0, or every one ≤ 0; not all zero), owning no texels (the solver clears the members' own): it
-/// shoots their summed energy from the centroid of the member nearest their power-weighted
-/// centre, along that member's normal, with the rectangle around the members on their plane as
-/// its outline. `patches[p]` is polygon p's patch count. `None` when nothing is left to shoot.
-/// Its item-buffer side (`hemi_res`) and turn are the caller's to set (0 here).
+/// of one sign: every channel ≥ 0, or every one ≤ 0; not all zero), owning no texels (the solver
+/// clears the members' own): it shoots their summed energy from the centroid of the member
+/// nearest their power-weighted centre (raised along a face cluster's `normal` to the highest
+/// member corner), along `normal` (a face cluster's mean normal, `face_clusters.rs`) or else
+/// that member's normal, with the rectangle around the members projected on the plane through
+/// that point as its outline (a flat emitter of their energy: by
+/// reciprocity it sends no more than it carries). `patches[p]` is polygon p's patch count.
+/// `None` when nothing is left to shoot. Its item-buffer side (`hemi_res`) and turn are the
+/// caller's to set (0 here).
 pub fn cluster_shooter(
     scene: &Scene,
     patches: &[u32],
     members: &[(usize, Vec3)],
+    normal: Option<Vec3>,
 ) -> Option<Shooter> {
     let weight = |e: Vec3| (e.x + e.y + e.z).abs() as f64;
     let total: f64 = members.iter().map(|&(_, e)| weight(e)).sum();
@@ -213,7 +224,8 @@ pub fn cluster_shooter(
         d(a).total_cmp(&d(b)).then(a.cmp(&b))
     })?;
     let polygon = &scene.polygons[lead];
-    let normal = polygon.normal;
+    let given = normal;
+    let normal = normal.unwrap_or(polygon.normal);
     // (u, v, normal) is right-handed, so the rectangle's corners in (u, v) order run
     // counter-clockwise seen from the front.
     let (u, v) = normal.any_orthonormal_pair();
@@ -225,7 +237,18 @@ pub fn cluster_shooter(
             hi = hi.max(at);
         }
     }
-    let plane = normal * normal.dot(polygon.centroid);
+    // A face cluster's point is raised along its mean normal to its highest member corner: from
+    // the lead's centroid, a convex cluster's light towards receivers between the lead's plane
+    // and the mean plane was blocked by the cluster itself (the living room's small shots
+    // delivered 2 points less of what they carried); above every member nothing of it is.
+    let lift = (given.is_some() && members.len() > 1).then(|| {
+        let height = |p: usize| scene.polygons[p].vertices.iter();
+        (members.iter().flat_map(|&(p, _)| height(p)))
+            .map(|&x| (x - polygon.centroid).dot(normal))
+            .fold(0f32, f32::max)
+    });
+    let position = polygon.centroid + normal * lift.unwrap_or(0.0);
+    let plane = normal * normal.dot(position);
     let mut corners = [Vec3::ZERO; MAX_CORNERS];
     for (c, (a, b)) in
         corners
@@ -239,7 +262,7 @@ pub fn cluster_shooter(
         polygon: lead,
         texels: [0; 4],
         patches: members.iter().map(|&(p, _)| patches[p]).sum(),
-        position: polygon.centroid,
+        position,
         normal,
         energy,
         corners,
@@ -334,7 +357,7 @@ mod tests {
         let scene = floor(4);
         let layout = PatchLayout::new(&scene, Resolution::PatchSize(1.0));
         let members = [(0, Vec3::ONE), (5, Vec3::splat(3.0)), (15, Vec3::ONE)];
-        let s = cluster_shooter(&scene, &layout.patches_per_polygon, &members).unwrap();
+        let s = cluster_shooter(&scene, &layout.patches_per_polygon, &members, None).unwrap();
         assert_eq!(s.energy, Vec3::splat(5.0));
         assert_eq!(s.patches, 3);
         // The power-weighted centre is nearest polygon 5's centroid.
@@ -347,6 +370,6 @@ mod tests {
         assert!(c.iter().all(|p| p.y.abs() < 1e-5));
         let turn = (c[1] - c[0]).cross(c[2] - c[1]);
         assert!(turn.dot(Vec3::Y) > 0.0);
-        assert!(cluster_shooter(&scene, &[1; 17], &[]).is_none());
+        assert!(cluster_shooter(&scene, &[1; 17], &[], None).is_none());
     }
 }

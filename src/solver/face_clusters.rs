@@ -1,12 +1,15 @@
-//! Beyond the paper, a first step towards shooting from clusters of non-coplanar faces (issue 58;
-//! face-cluster radiosity, Willmott, Heckbert & Garland 1999): a hierarchy over the small
-//! polygons of curved surfaces, each node a set of touching polygons whose normals stay within a
-//! cone. Not used by the loop yet. The shot it is for: a small polygon picked by Find_Max_Energy
-//! shoots with the largest cluster around it whose [`misdirected`] power is within the shot's
-//! bound, as one `Shooter` (the members' summed energy, cleared before the passes and counted as
-//! carried in the books, as `clusters.rs`'s are), from the member nearest the power-weighted
-//! centre, along the mean normal, with the members' rectangle on that plane as the form factor's
-//! outline; by reciprocity it delivers no more than it carries, and only its direction errs.
+//! Beyond the paper, behind `SolveOptions::face_clusters` (`--face-clusters`; issue 58):
+//! shooting from clusters of non-coplanar faces (face-cluster radiosity, Willmott, Heckbert &
+//! Garland 1999). A hierarchy over the small polygons of curved surfaces, each node a set of
+//! touching polygons whose normals stay within a cone. A small polygon picked by
+//! Find_Max_Energy shoots with the largest cluster around it that its error bound allows
+//! ([`FaceClusters::shot_of`], [`Bound`]: the [`misdirected`] power within `cut_above` of the
+//! emitted power), as one `Shooter` (`Solver::cluster_of`: the members' summed energy, cleared
+//! before the passes and counted as carried in the books, as `clusters.rs`'s are), from the
+//! member nearest the power-weighted centre, along the mean normal, with the members' rectangle
+//! on that plane as the form factor's outline; by reciprocity it delivers no more than it
+//! carries, and only its direction errs. Flat clusters are left to `clusters.rs`, so a scene
+//! without small non-coplanar polygons shoots as without.
 //!
 //! Why: `clusters.rs` groups only coplanar neighbours, so every facet of a column, a chair's seat
 //! or a vault shoots alone, with its own visibility pass. Neighbouring facets whose normals
@@ -91,6 +94,30 @@ impl Ord for Candidate {
 impl PartialOrd for Candidate {
     fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
         Some(self.cmp(other))
+    }
+}
+
+/// A cone this narrow (radians) counts as flat (`FaceClusters::shot_of`).
+pub const FLAT: f32 = 1e-3;
+
+/// The error bound of a face cluster's shot (`FaceClusters::shot_of`), as the solver's options
+/// set it (`SolveOptions::face_clusters`).
+#[derive(Clone, Copy, Debug)]
+pub struct Bound {
+    /// The most power a shot may misdirect ([`misdirected`]), and below which it may reach
+    /// `coarse_reach` (as a polygon's coarse cells): `cut_above` × the emitted power.
+    pub power: f64,
+    /// The widest extent (scene units, on every axis) of a cluster carrying more than `power`:
+    /// the ordinary shooter cell.
+    pub fine_reach: f32,
+}
+
+impl Bound {
+    /// Whether `node` may shoot as one carrying `power` (its shooting members' unshot power).
+    pub fn allows(&self, node: &Node, power: f64) -> bool {
+        let extent = (node.hi - node.lo).max_element();
+        misdirected(node.cone, power) <= self.power
+            && (power < self.power || extent <= self.fine_reach)
     }
 }
 
@@ -261,21 +288,57 @@ impl FaceClusters {
         out
     }
 
-    /// The largest cluster of two or more polygons that holds `p` and that `allows` (with every
-    /// smaller one on the way up from `p`'s leaf): the node a shot of `p` would shoot, or `None`
-    /// when `p` should shoot alone. `allows` should grow stricter up the tree (a larger cluster
-    /// carries more power and has a wider cone, as [`misdirected`] does).
-    pub fn shooting_cluster(&self, p: usize, allows: impl Fn(&Node) -> bool) -> Option<u32> {
+    /// The largest cluster of two or more polygons that holds `p` and that `allows` (given the
+    /// node's index and the node; with every smaller one on the way up from `p`'s leaf): the node
+    /// a shot of `p` would shoot, or `None` when `p` should shoot alone. `allows` should grow
+    /// stricter up the tree (a larger cluster carries more power and has a wider cone, as
+    /// [`misdirected`] does).
+    pub fn shooting_cluster(&self, p: usize, allows: impl Fn(u32, &Node) -> bool) -> Option<u32> {
         let mut at = self.leaf_of(p)?;
         let mut best = None;
         while let Some(up) = self.nodes[at as usize].parent {
-            if !allows(&self.nodes[up as usize]) {
+            if !allows(up, &self.nodes[up as usize]) {
                 break;
             }
             best = Some(up);
             at = up;
         }
         best
+    }
+
+    /// The shot of `p` with its face cluster: the members that shoot (`p` among them) and the
+    /// cluster's mean normal, or `None` when `p` shoots alone or the cluster its bound allows is
+    /// flat (its cone 0: the coplanar clusters of `clusters.rs` take those, as without face
+    /// clusters). `power(q)` is what polygon q would carry in this shot (its unshot power by
+    /// magnitude), `None` when q may not shoot now (taken by the step, or of the other sign).
+    /// The bound ([`Bound::allows`]): the largest cluster whose misdirected power is within the
+    /// bound, if at least two of its members shoot; refining a cluster that is not allowed is
+    /// the walk stopping at a child.
+    pub fn shot_of(
+        &self,
+        p: usize,
+        power: impl Fn(usize) -> Option<f64>,
+        bound: &Bound,
+    ) -> Option<(Vec<usize>, Vec3)> {
+        let shooting = |node: u32| -> (Vec<usize>, f64) {
+            let (mut members, mut sum) = (Vec::new(), 0.0);
+            for q in self.members(node) {
+                if let Some(w) = power(q) {
+                    members.push(q);
+                    sum += w;
+                }
+            }
+            (members, sum)
+        };
+        let node = self.shooting_cluster(p, |id, node| bound.allows(node, shooting(id).1))?;
+        let n = &self.nodes[node as usize];
+        // A flat cluster's normals agree to a thousandth of a radian (`angle` reads 0 for
+        // parallel ones): those shoot as before.
+        if n.cone <= FLAT {
+            return None;
+        }
+        let (members, _) = shooting(node);
+        (members.len() >= 2 && members.contains(&p)).then(|| (members, n.normal()))
     }
 
     /// Clusters of two or more polygons that were merged into nothing larger (the roots).
@@ -444,7 +507,7 @@ mod tests {
         let alone = scene.polygons.len() - 1;
         let leaf = c.leaf_of(alone).unwrap();
         assert_eq!(c.nodes()[leaf as usize].parent, None);
-        assert_eq!(c.shooting_cluster(alone, |_| true), None);
+        assert_eq!(c.shooting_cluster(alone, |_, _| true), None);
         // With side 1, only polygons of one patch are leaves: the column's facets (0.26 × 0.25)
         // are, the caps' triangles too; nothing larger than a patch.
         let one = FaceClusters::new(&scene, &layout, 1, 30f32.to_radians());
@@ -465,14 +528,14 @@ mod tests {
         let layout = PatchLayout::new(&scene, Resolution::PatchSize(0.2));
         let c = FaceClusters::new(&scene, &layout, 8, 20f32.to_radians());
         let p = 100;
-        let all = c.shooting_cluster(p, |_| true).unwrap();
+        let all = c.shooting_cluster(p, |_, _| true).unwrap();
         assert_eq!(c.nodes()[all as usize].parent, None);
         assert!(c.members(all).contains(&p));
-        assert_eq!(c.shooting_cluster(p, |_| false), None);
+        assert_eq!(c.shooting_cluster(p, |_, _| false), None);
         // A bound on what may go astray: a shot of power 1 allows 0.1 misdirected; the node is
         // the largest within it, and its parent is not.
         let allows = |n: &Node| misdirected(n.cone, 1.0) <= 0.1;
-        let node = c.shooting_cluster(p, allows).unwrap();
+        let node = c.shooting_cluster(p, |_, n| allows(n)).unwrap();
         assert!(allows(&c.nodes()[node as usize]));
         if let Some(up) = c.nodes()[node as usize].parent {
             assert!(!allows(&c.nodes()[up as usize]));
@@ -481,5 +544,54 @@ mod tests {
         // Misdirected power grows with the cone.
         assert_eq!(misdirected(0.0, 1.0), 0.0);
         assert!(misdirected(0.2, 1.0) > misdirected(0.1, 1.0));
+    }
+
+    #[test]
+    fn a_shot_is_refined_as_its_power_grows_and_flat_clusters_are_left_alone() {
+        let scene = test_scene(cylinder(48, 16, 0.125));
+        let layout = PatchLayout::new(&scene, Resolution::PatchSize(0.2));
+        let c = FaceClusters::new(&scene, &layout, 8, 20f32.to_radians());
+        let p = 100;
+        let bound = Bound {
+            power: 1.0,
+            fine_reach: 4.0 * 0.2,
+        };
+        // Each facet carries `w`: the larger the shot, the smaller the cluster the bound allows,
+        // down to none (the facet shoots alone).
+        let sizes: Vec<usize> = [1e-3, 1e-2, 0.05, 0.2, 10.0]
+            .iter()
+            .map(|&w| {
+                c.shot_of(p, |_| Some(w), &bound)
+                    .map_or(1, |(m, _)| m.len())
+            })
+            .collect();
+        assert!(sizes.windows(2).all(|s| s[1] <= s[0]), "{sizes:?}");
+        assert!(sizes[0] >= 12 && sizes[4] == 1, "{sizes:?}");
+        // The members that may not shoot now stay out; the rest still hold p.
+        let (all, normal) = c.shot_of(p, |_| Some(1e-3), &bound).unwrap();
+        let odd = |q: usize| q % 2 == 1 || q == p;
+        let (some, _) = c.shot_of(p, |q| odd(q).then_some(1e-3), &bound).unwrap();
+        assert!(some.contains(&p) && some.iter().all(|&q| odd(q)) && some.len() < all.len());
+        // Within the bound: what may go astray of the members' power along the mean normal.
+        let node = c.shooting_cluster(p, |_, _| true).unwrap();
+        assert!(normal.dot(c.nodes()[node as usize].normal()) > 0.9);
+        // A flat floor's cluster is the coplanar clusters' to shoot.
+        let flat = test_scene(
+            (0..16)
+                .map(|i| {
+                    let o = Vec3::new((i % 4) as f32, 0.0, (i / 4) as f32);
+                    Polygon::new(
+                        vec![o, o + Vec3::Z, o + Vec3::X + Vec3::Z, o + Vec3::X],
+                        0,
+                        "t".into(),
+                    )
+                    .unwrap()
+                })
+                .collect(),
+        );
+        let flat_layout = PatchLayout::new(&flat, Resolution::PatchSize(1.0));
+        let f = FaceClusters::new(&flat, &flat_layout, 8, 20f32.to_radians());
+        assert!(f.shooting_cluster(0, |_, _| true).is_some());
+        assert_eq!(f.shot_of(0, |_| Some(1e-3), &bound), None);
     }
 }

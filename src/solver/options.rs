@@ -123,6 +123,13 @@ pub struct SolveOptions {
     /// (`shooters::widened_cell`): each cell is a visibility pass of the whole scene. 0: no
     /// limit.
     pub shot_triangles: u64,
+    /// Beyond the paper, for fewer shots on curved surfaces of many small faces: a small
+    /// polygon shoots with the largest cluster of touching non-coplanar neighbours around it
+    /// (normals within [`FACE_CONE_DEGREES`], bounds within `cluster_cell` patches) whose
+    /// misdirected power stays within `cut_above` of the emitted power (`face_clusters.rs`).
+    /// Needs `shooter_cell`, `cluster_cell` and `cut_above` (so never in the paper's mode), and
+    /// only in scenes whose polygons average at most `clusters::AVERAGE_PATCHES` patches.
+    pub face_clusters: bool,
 }
 
 impl SolveOptions {
@@ -151,6 +158,7 @@ impl SolveOptions {
             coarse_cell: 0,
             cluster_cell: 0,
             shot_triangles: 0,
+            face_clusters: false,
         }
     }
 
@@ -329,6 +337,12 @@ pub const CLUSTER_CELL: u32 = 8;
 /// triangles (a quarter of a second a pass there on llvmpipe), thousands on the Table 1 rooms,
 /// whose shots it leaves as they were.
 pub const SHOT_TRIANGLES: u64 = 50_000_000;
+
+/// The widest cone (half-angle, degrees) of a face cluster's normals
+/// (`SolveOptions::face_clusters`): at most sin 20° = 34 % of a cluster's power may leave in
+/// other directions than its members' own, and the error bound allows a cluster's shot only
+/// while that is within `cut_above` of the emitted power.
+pub const FACE_CONE_DEGREES: f32 = 20.0;
 
 /// The configurations `bench guard` compares: the paper-faithful one, each speed option alone
 /// on it, whole polygons with all of them, and the default.
