@@ -425,7 +425,7 @@ fn leaving_out_the_far_faces_of_solids_changes_nothing_but_float_noise() {
 #[test]
 fn leaving_out_hidden_polygons_gives_the_same_lightmaps() {
     // Polygons hidden behind nearer ones at every pixel centre they could cover
-    // (`visibility::occlusion`); tests/item_buffer.rs checks the item buffers pixel by pixel.
+    // (`engine::occlusion`); tests/item_buffer.rs checks the item buffers pixel by pixel.
     let off = |t: &mut Tuning| t.cull_hidden = false;
     on_both_rooms(off, |name, mut culled, mut whole| {
         let d = step_both(name, &mut culled, &mut whole, 40);
@@ -516,7 +516,7 @@ fn writing_the_item_buffers_from_the_walk_changes_nothing_but_edge_pixels() {
 #[test]
 fn drawing_only_what_the_walk_reaches_gives_the_same_lightmaps() {
     // With the walk writing the item buffers, each pass draws only the blocks its shooters may
-    // reach (`visibility::seen_receivers`), and with several shooters a pass marks them shooter
+    // reach (`engine::seen_receivers`), and with several shooters a pass marks them shooter
     // by shooter and shades the blocks only one reaches with that one alone: bit for bit the
     // same lightmaps (tests/seen_receivers.rs checks the reach patch by patch).
     let off = |t: &mut Tuning| {

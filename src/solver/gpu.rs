@@ -4,9 +4,9 @@
 //! (`reconstruction/`); `glCopyTexSubImage2D` copies the sums back into the textures, and the
 //! unshot texture is read back for Find_Max_Energy after each shot.
 
+use super::engine::seen_receivers::SeenReceivers;
 use super::progressive::{Backend, Solver};
 use super::reconstruction::{Lightmaps, ReconstructionPass};
-use super::visibility::seen_receivers::SeenReceivers;
 use super::visibility::VisibilityPass;
 use super::{mesh, Shooter, SolveError, SolveOptions, VisibilityKind};
 use crate::gl::GlContext;
@@ -91,7 +91,10 @@ impl<'a> GpuBackend<'a> {
             mesh::tessellated_data(scene, layout, size)
         } else if options.visibility == VisibilityKind::Hemicube && options.robust_visibility {
             // Plates: the robust test reads the shown polygon's plane, which a plate shares.
-            visibility.merge_plates(scene).vertex_data(scene, layout)
+            match visibility.merge_plates(scene) {
+                Some(plates) => plates.vertex_data(scene, layout),
+                None => mesh::vertex_data(scene, layout),
+            }
         } else {
             mesh::vertex_data(scene, layout)
         };

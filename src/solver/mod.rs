@@ -15,6 +15,7 @@
 pub mod balance;
 pub mod clusters;
 pub mod cpu;
+pub mod engine;
 pub mod face_clusters;
 pub mod find_max_energy;
 pub mod form_factor;

@@ -96,24 +96,24 @@ pub struct Tuning {
     pub half_side_faces: bool,
     /// Visibility (hemicube with the robust test): coplanar neighbours outside the convex
     /// solids (floor planks, ceiling tiles) are merged into convex plates and drawn as one
-    /// polygon under the first one's ID (`visibility::plates`): a few large triangles cost
+    /// polygon under the first one's ID (`engine::plates`): a few large triangles cost
     /// llvmpipe much less to set up and bin than hundreds of small ones. The robust test reads
     /// only the shown polygon's plane, which a plate shares; the pixels that change are those
     /// whose centres lie on the joints merging removed (depth ties).
     pub plates: bool,
     /// Visibility (hemicube): the faces of convex solids turned away from a shooter outside them
-    /// are left out (`visibility::solids`): they can never be the first thing seen. The pixels
+    /// are left out (`engine::solids`): they can never be the first thing seen. The pixels
     /// that change are those whose centres lie on an edge where a near and a far face meet (a
     /// depth tie; 715 of 37.5 million on the simple room).
     pub cull_solids: bool,
     /// Visibility (hemicube): each view leaves out the polygons whose projected corners span no
-    /// pixel centre across or none up and down (`visibility::samples`): the item buffer has one
+    /// pixel centre across or none up and down (`engine::samples`): the item buffer has one
     /// sample per pixel, so they would make no fragment. Small shots draw 16² to 60² pixels
     /// per face, where a book's spine is a fraction of a pixel, and llvmpipe sets up and bins
     /// every triangle it is given on one thread. Bit-identical.
     pub cull_between_samples: bool,
     /// Visibility (hemicube): the polygons hidden behind nearer ones are left out
-    /// (`visibility::occlusion`): a cube of directions around the shooter records how near a
+    /// (`engine::occlusion`): a cube of directions around the shooter records how near a
     /// drawn triangle covers each cell wholly, and what lies behind that in every cell it
     /// reaches cannot show. A small shot on Lost Empire shows about 200 of the 17,000 polygons
     /// in front of it. Bit-identical.
@@ -142,7 +142,7 @@ pub struct Tuning {
     /// walked slots only). 0: no limit.
     pub walk_up_to: u32,
     /// Reconstruction (with `walk_item_buffers`): draw only the lightmaps of the polygons that
-    /// the pass's item buffers let receive (`visibility::seen_receivers`), plus the shooting
+    /// the pass's item buffers let receive (`engine::seen_receivers`), plus the shooting
     /// texels. The walk knows each pixel's polygon on the CPU, so a box of patches can be left
     /// out when every pixel it can look up shows a polygon whose plane puts it behind, by the
     /// reconstruction shader's own robust test. On Lost Empire a small shot reaches a few

@@ -30,8 +30,8 @@ mod programs;
 mod receivers;
 mod uniforms;
 
+use super::engine::seen_receivers::Reach;
 use super::pass_names::{ACCUMULATION, INITIALISATION, RECONSTRUCTION};
-use super::visibility::seen_receivers::Reach;
 use super::visibility::VisibilityPass;
 use super::{Shooter, SolveOptions, Tuning};
 use crate::gl::faults::{self, Fault};

@@ -8,7 +8,7 @@ use super::cover::BLOCK;
 use crate::geometry::sphere_around;
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
-use crate::solver::visibility::seen_receivers::Reach;
+use crate::solver::engine::seen_receivers::Reach;
 use crate::solver::{Shooter, Tuning};
 use glam::Vec3;
 
