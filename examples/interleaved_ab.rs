@@ -159,7 +159,7 @@ fn main() {
         shot(1),
         seconds[1] / seconds[0]
     );
-    let marked = |k: usize| solvers[k].backend().reconstruction.marked_passes;
+    let marked = |k: usize| solvers[k].backend().reconstruction.marked_passes();
     println!(
         "passes with the marking pass: A {}, B {}",
         marked(0),

@@ -144,7 +144,7 @@ fn marking_after_some_shots_only_gives_the_same_lightmaps() {
     }
     assert_eq!(adaptive.radiosity_atlas(), never.radiosity_atlas());
     assert_eq!(adaptive.unshot_atlas(), never.unshot_atlas());
-    let marked = |s: &GpuSolver<'_>| s.backend().reconstruction.marked_passes;
+    let marked = |s: &GpuSolver<'_>| s.backend().reconstruction.marked_passes();
     eprintln!(
         "passes marked: {} adaptive, {} always, {} never",
         marked(&adaptive),
@@ -314,7 +314,7 @@ fn the_gpu_profile_gives_the_llvmpipe_engines_lightmaps_but_for_edge_pixels() {
         );
         // The GPU profile culls nothing and marks nothing.
         assert_eq!(gpu.backend().visibility.missed(), 0);
-        assert_eq!(gpu.backend().reconstruction.marked_passes, 0);
+        assert_eq!(gpu.backend().reconstruction.marked_passes(), 0);
     }
 }
 
@@ -559,8 +559,12 @@ fn shading_shared_blocks_with_programs_for_just_their_shooters_gives_the_same_li
         for _ in 0..40 {
             assert_eq!(step_both(name, &mut few, &mut all, 1), 0.0, "{name}");
         }
-        let blocks = few.backend().reconstruction.few_shooter_blocks;
-        assert_eq!(all.backend().reconstruction.few_shooter_blocks, 0, "{name}");
+        let blocks = few.backend().reconstruction.few_shooter_blocks();
+        assert_eq!(
+            all.backend().reconstruction.few_shooter_blocks(),
+            0,
+            "{name}"
+        );
         eprintln!("{name}: {blocks} blocks shaded by few-shooter programs");
         few_blocks += blocks;
     });
@@ -570,7 +574,7 @@ fn shading_shared_blocks_with_programs_for_just_their_shooters_gives_the_same_li
         for _ in 0..60 {
             assert_eq!(step_both("Lost Empire", &mut few, &mut all, 1), 0.0);
         }
-        let blocks = few.backend().reconstruction.few_shooter_blocks;
+        let blocks = few.backend().reconstruction.few_shooter_blocks();
         eprintln!("Lost Empire: {blocks} blocks shaded by few-shooter programs");
         assert!(
             blocks > 1000,

@@ -42,7 +42,7 @@ pub struct Tuning {
     pub marking_pass: bool,
     /// Reconstruction: run the marking pass only after a shot that lit fewer than this many per
     /// cent of the patches per pass (sampled from the unshot atlas read back after each shot,
-    /// `reconstruction::lit_share`); 100: before every pass. Marking pays where most texels are
+    /// `engine::lit_share`); 100: before every pass. Marking pays where most texels are
     /// hidden from every shooter of the pass and costs a second draw where most are lit: on
     /// llvmpipe at four shooters per pass it saved about 10 % in the complex room, where a shot
     /// lights about a quarter of the patches, and cost about 6 % in the simple room, where it

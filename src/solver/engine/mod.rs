@@ -7,6 +7,10 @@
 //!   hidden-polygon walk of `occlusion` over the `box_tree`), draws coplanar neighbours as
 //!   `plates`, or writes the item buffer itself; `seen_receivers` finds from it what each shot
 //!   may reach;
+//! - what a reconstruction pass draws and with which program ([`AtlasDraw`]): [`MarkedSquares`]
+//!   draws only the blocks that can receive (`receivers`), after a marking pass whose rule
+//!   watches the share of patches each shot lit (`lit_share`), with the variants of
+//!   `marked_programs` (for one and for a few shooters of a pass too).
 //!
 //! Which of it runs is switched by [`Tuning`]; the constructors below read a tuning and give the
 //! paper's parts where it asks for nothing of the engine.
@@ -14,19 +18,26 @@
 mod box_tree;
 pub mod culled_views;
 pub mod culling;
+mod lit_share;
+mod marked_programs;
+mod marked_squares;
 pub mod occlusion;
 pub mod plates;
+mod receivers;
 pub mod samples;
 pub mod seen_receivers;
 pub mod solids;
 
 pub use culled_views::CulledViews;
+use marked_squares::MarkedSquares;
 
+use super::reconstruction::{AtlasDraw, Choices, ProgramVariants, ReconstructionPass, WholeAtlas};
 use super::visibility::{
     DepthFormat, DrawnViews, FaceArea, ItemBufferFill, ViewSetup, VisibilityPass,
 };
-use super::{Tuning, VisibilityKind};
+use super::{SolveOptions, Tuning, VisibilityKind};
 use crate::gl::{GlContext, GlError};
+use crate::patches::PatchLayout;
 use crate::scene::Scene;
 use plates::Plates;
 use seen_receivers::{Reach, SeenReceivers};
@@ -142,5 +153,60 @@ impl VisibilityPass {
     /// `use_seen_receivers` set up the test (`Tuning::walk_receivers`); `None` if not known.
     pub fn receivers_seen(&self, slot: usize) -> Option<&Reach> {
         self.engine()?.receivers.get(slot)?.as_ref()
+    }
+}
+
+/// Which variants of the paper's program `tuning` compiles.
+pub fn program_variants(tuning: &Tuning) -> ProgramVariants {
+    ProgramVariants {
+        choices_compiled: tuning.compile_choices,
+        quads: tuning.unroll_quads,
+    }
+}
+
+/// The reconstruction pass as `options.tuning` asks for it: the paper's whole-atlas draw, or the
+/// engine's [`MarkedSquares`].
+impl ReconstructionPass {
+    /// The pass for `scene` laid out as `layout` (without gutters), serving up to
+    /// `options.shooters_per_pass` shooters a pass (and, with `Tuning::compile_choices`, only
+    /// `options`' choices of form factor, visibility kind and robust test).
+    pub fn new(
+        ctx: &GlContext,
+        scene: &Scene,
+        layout: &PatchLayout,
+        options: &SolveOptions,
+    ) -> Result<Self, GlError> {
+        let tuning = &options.tuning;
+        let variants = program_variants(tuning);
+        let draw: Box<dyn AtlasDraw> = if MarkedSquares::wanted(tuning) {
+            let compiled = variants.choices_compiled.then(|| Choices::of(options));
+            let draw = MarkedSquares::new(ctx, scene, layout, options, compiled)?;
+            Box::new(draw)
+        } else {
+            Box::new(WholeAtlas::new(&ctx.gl, layout)?)
+        };
+        Self::with_draw(ctx, scene, layout, options, variants, draw)
+    }
+
+    /// The engine's draw, if this pass has it.
+    fn engine(&self) -> Option<&MarkedSquares> {
+        self.atlas_draw().as_any().downcast_ref()
+    }
+
+    /// Passes drawn with the marking pass so far (`Tuning::marking_below` decides each).
+    pub fn marked_passes(&self) -> u32 {
+        self.engine().map_or(0, |e| e.marked_passes)
+    }
+
+    /// Blocks shaded so far by a program for fewer shooters than the pass's, several of them
+    /// (`Tuning::few_shooter_programs`).
+    pub fn few_shooter_blocks(&self) -> u64 {
+        self.engine().map_or(0, |e| e.few_shooter_blocks)
+    }
+
+    /// The share of the patches each pass of the last shot lit at least, as the marking rule
+    /// estimated it (`Tuning::marking_below`; 0 without it).
+    pub fn lit_share(&self) -> f32 {
+        self.engine().map_or(0.0, |e| e.lit_share())
     }
 }
