@@ -59,7 +59,8 @@ fn configuration(changes: &str) -> SolveOptions {
             "+receivers_only" => t.receivers_only = true,
             "-marking_pass" => {
                 t.marking_pass = false;
-                t.few_shooter_programs = false;
+                // Few-shooter programs need the marking pass.
+                t.walk = t.walk.min(gpu_radiosity::solver::Walk::ReceiversFound);
             }
             "-skip_needless_clipping" => t.skip_needless_clipping = false,
             "-unroll_quads" => t.unroll_quads = false,
@@ -72,10 +73,7 @@ fn configuration(changes: &str) -> SolveOptions {
             "-plates" => t.plates = false,
             "-cull_solids" => t.cull_solids = false,
             "-cull_between_samples" => t.cull_between_samples = false,
-            "-cull_hidden" => {
-                *t = t.drawing();
-                t.cull_hidden = false;
-            }
+            "-cull_hidden" => t.walk = gpu_radiosity::solver::Walk::Off,
             "-walk_item_buffers" => *t = t.drawing(),
             "-flush_visibility" => t.flush_visibility = false,
             other => panic!("unknown change '{other}' (see the file's comment)"),

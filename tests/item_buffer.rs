@@ -11,7 +11,7 @@ use gpu_radiosity::scene::Scene;
 use gpu_radiosity::solver::engine::solids::Solids;
 use gpu_radiosity::solver::mesh::{self, SceneMesh};
 use gpu_radiosity::solver::visibility::{face_rotations, VisibilityPass};
-use gpu_radiosity::solver::{GpuSolver, SolveOptions, Tuning, VisibilityKind};
+use gpu_radiosity::solver::{GpuSolver, SolveOptions, Tuning, VisibilityKind, Walk};
 
 /// The tuning for llvmpipe with the views drawn (`Tuning::walk_item_buffers` off): the GPU path
 /// these tests hold to account. `the_walk_writes_what_the_views_draw` compares the two.
@@ -460,7 +460,7 @@ fn hidden_polygons_left_out(
     let pass = |tuning| VisibilityPass::new(&ctx, VisibilityKind::Hemicube, top, tuning, scene);
     let mut culled = pass(drawn()).unwrap();
     let mut whole = pass(Tuning {
-        cull_hidden: false,
+        walk: Walk::Off,
         ..drawn()
     })
     .unwrap();

@@ -10,7 +10,7 @@ mod common;
 use common::*;
 use gpu_radiosity::patches::{PatchLayout, Resolution};
 use gpu_radiosity::solver::reconstruction::{Lightmaps, ReconstructionPass};
-use gpu_radiosity::solver::{FormFactorKind, GpuSolver, SolveOptions, Tuning};
+use gpu_radiosity::solver::{FormFactorKind, GpuSolver, SolveOptions, Tuning, Walk};
 
 #[test]
 fn squares_drawn_as_points_or_triangles_give_the_same_lightmaps() {
@@ -134,7 +134,7 @@ fn marking_after_some_shots_only_gives_the_same_lightmaps() {
     let mut never = solver(|t| {
         t.marking_pass = false;
         // Needs the marking pass (`Tuning::check`); bit for bit the same without.
-        t.few_shooter_programs = false;
+        t.walk = Walk::ReceiversFound;
     });
     let steps = 60;
     let d = step_both("simple, always", &mut adaptive, &mut always, steps);
@@ -426,7 +426,7 @@ fn leaving_out_the_far_faces_of_solids_changes_nothing_but_float_noise() {
 fn leaving_out_hidden_polygons_gives_the_same_lightmaps() {
     // Polygons hidden behind nearer ones at every pixel centre they could cover
     // (`engine::occlusion`); tests/item_buffer.rs checks the item buffers pixel by pixel.
-    let off = |t: &mut Tuning| t.cull_hidden = false;
+    let off = |t: &mut Tuning| t.walk = Walk::Off;
     on_both_rooms(off, |name, mut culled, mut whole| {
         let d = step_both(name, &mut culled, &mut whole, 40);
         println!("{name}: L1 difference {d}");
@@ -490,7 +490,7 @@ fn writing_the_item_buffers_from_the_walk_changes_nothing_but_edge_pixels() {
     // The walk records the nearest polygon at each pixel centre; the GPU draws the views. The
     // pixels that differ lie on edges (tests/item_buffer.rs counts them), and move the answer
     // no more than the other depth-tie switches.
-    let on = |t: &mut Tuning| t.walk_item_buffers = true;
+    let on = |t: &mut Tuning| t.walk = Walk::ItemBuffersWritten;
     on_both_rooms(on, |name, mut drawn, mut walked| {
         if name == "cornell" {
             let d = step_both(name, &mut drawn, &mut walked, 40);
@@ -519,11 +519,8 @@ fn drawing_only_what_the_walk_reaches_gives_the_same_lightmaps() {
     // reach (`engine::seen_receivers`), and with several shooters a pass marks them shooter
     // by shooter and shades the blocks only one reaches with that one alone: bit for bit the
     // same lightmaps (tests/seen_receivers.rs checks the reach patch by patch).
-    let off = |t: &mut Tuning| {
-        t.walk_receivers = false;
-        // Needs `walk_receivers` (`Tuning::check`); bit for bit the same without.
-        t.few_shooter_programs = false;
-    };
+    // Few-shooter programs need the receivers found (`Walk`): off with them.
+    let off = |t: &mut Tuning| t.walk = Walk::ItemBuffersWritten;
     on_both_rooms_from(walk_every_side, off, |name, mut reached, mut every| {
         let (mut fewer, mut all) = (0, 0);
         for _ in 0..40 {
@@ -553,7 +550,7 @@ fn shading_shared_blocks_with_programs_for_just_their_shooters_gives_the_same_li
     // With the walk's reach, the blocks that two to four shooters of a pass alone may reach are
     // shaded by a program for just those shooters (`Tuning::few_shooter_programs`): every other
     // shooter adds +0.0 there, so the sums are the same bit for bit.
-    let off = |t: &mut Tuning| t.few_shooter_programs = false;
+    let off = |t: &mut Tuning| t.walk = Walk::ReceiversFound;
     let mut few_blocks = 0;
     on_both_rooms_from(walk_every_side, off, |name, mut few, mut all| {
         for _ in 0..40 {
@@ -611,9 +608,7 @@ fn walk_every_side(t: &mut Tuning) {
         walk_up_to: 0,
         ..*t
     };
-    t.walk_item_buffers = true;
-    t.walk_receivers = true;
-    t.few_shooter_programs = true;
+    t.walk = Walk::FewShooterPrograms;
 }
 
 /// Step both solvers `shots` times (they must pick the same shooters) and return the larger

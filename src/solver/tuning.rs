@@ -4,7 +4,7 @@
 //! leaves the answer the same (bit for bit, or to float rounding where a switch says so; the
 //! A/B tests are in `tests/tuning.rs` and `tests/data_flow.rs`). The few that
 //! change the item buffer beyond depth ties stay on in [`Tuning::none`], and say why; one,
-//! [`walk_item_buffers`](Tuning::walk_item_buffers), writes the item buffer on the CPU instead of
+//! [`Walk::ItemBuffersWritten`], writes the item buffer on the CPU instead of
 //! drawing it, which moves pixel centres on edges (`tests/item_buffer.rs` counts them).
 //!
 //! Why llvmpipe needs its own tricks: it shades a block of 4×4 fragments at a time, runs both
@@ -112,23 +112,9 @@ pub struct Tuning {
     /// per face, where a book's spine is a fraction of a pixel, and llvmpipe sets up and bins
     /// every triangle it is given on one thread. Bit-identical.
     pub cull_between_samples: bool,
-    /// Visibility (hemicube): the polygons hidden behind nearer ones are left out
-    /// (`engine::occlusion`): a cube of directions around the shooter records how near a
-    /// drawn triangle covers each cell wholly, and what lies behind that in every cell it
-    /// reaches cannot show. A small shot on Lost Empire shows about 200 of the 17,000 polygons
-    /// in front of it. Bit-identical.
-    pub cull_hidden: bool,
-    /// Visibility (hemicube, with `cull_hidden`): the item buffer is not drawn but written. The
-    /// hidden-polygon walk already projects every polygon it keeps onto the shot's own pixel
-    /// centres; it also records there the ID of the nearest one (each piece clipped to the near
-    /// plane as the GPU clips it, no margins), and the pass uploads those IDs into the
-    /// item-buffer texture with glTexSubImage2D. llvmpipe is a CPU too: drawing cost the
-    /// issuing thread Mesa's vertex, clipping and set-up path and the rasteriser threads their
-    /// share, about 60 % of the CPU time of Lost Empire's visibility pass (docs/perf-log.md). The pixels differ
-    /// from drawn ones only where a centre lies on an edge, which the GPU's fill rule gives to
-    /// one side and the walk to the nearer (or first) polygon, and the answer moves as little
-    /// as with the other depth-tie switches. Off: the views are drawn, as the paper draws them.
-    pub walk_item_buffers: bool,
+    /// Visibility (hemicube): how far the hidden-polygon walk goes ([`Walk`]); each level needs
+    /// the ones before it, so that a combination that cannot work cannot be written.
+    pub walk: Walk,
     /// Visibility (with `cull_hidden`), in passes of one shooter: the hidden-polygon walk runs
     /// (leaving hidden polygons out, and with `walk_item_buffers` writing the item buffer)
     /// only for shots whose item buffer is at most this many pixels a side; larger ones are
@@ -141,24 +127,6 @@ pub struct Tuning {
     /// item buffers draws the whole atlas with the marking pass (`receivers_seen` is known for
     /// walked slots only). 0: no limit.
     pub walk_up_to: u32,
-    /// Reconstruction (with `walk_item_buffers`): draw only the lightmaps of the polygons that
-    /// the pass's item buffers let receive (`engine::seen_receivers`), plus the shooting
-    /// texels. The walk knows each pixel's polygon on the CPU, so a box of patches can be left
-    /// out when every pixel it can look up shows a polygon whose plane puts it behind, by the
-    /// reconstruction shader's own robust test. On Lost Empire a small shot reaches a few
-    /// hundred of 17,000 polygons, and the marking pass had run eight shooters' visibility tests
-    /// on every patch of the atlas, two thirds of the pass (docs/perf-log.md). The receivers are
-    /// a superset of those with a texel the shader finds visible: bit-identical.
-    pub walk_receivers: bool,
-    /// Reconstruction (with `walk_receivers`, several shooters a pass and the marking pass): the
-    /// blocks that two to four of the pass's shooters may reach are shaded, for the sets of
-    /// shooters that reach the most blocks, by a program compiled for just those shooters,
-    /// rather than by the one for every shooter of the pass. llvmpipe runs each shooter's
-    /// visibility test and form factor for every fragment whatever they decide, and on Lost
-    /// Empire most such blocks are reached by two or three of the eight: the eight-shooter
-    /// program spent most of its time on shooters that add exactly zero there
-    /// (docs/perf-log.md). Those shooters add +0.0, so the sums are the same bit for bit.
-    pub few_shooter_programs: bool,
     /// Visibility: a glFlush at the end of the pass, so that llvmpipe rasterises the item
     /// buffer while the CPU picks the receivers (otherwise it waits until the reconstruction
     /// binds the item buffer). Bit-identical.
@@ -170,6 +138,52 @@ pub struct Tuning {
     /// at depth ties; the two rooms' lightmaps came out bit-identical, which nothing promises
     /// for other scenes), and the paper's mode keeps the answers it has always given.
     pub float_depth: bool,
+}
+
+/// How far the hidden-polygon walk goes (hemicube only; `Tuning::walk`, `engine::occlusion`).
+/// Each level does what the one before does, and more: writing the item buffer needs the walk,
+/// and finding the receivers needs the item buffer written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Walk {
+    /// No walk: the views are drawn with whatever the rest of the culling leaves out.
+    Off,
+    /// `cull_hidden`: the polygons hidden behind nearer ones are left out
+    /// (`engine::occlusion`): a cube of directions around the shooter records how near a
+    /// drawn triangle covers each cell wholly, and what lies behind that in every cell it
+    /// reaches cannot show. A small shot on Lost Empire shows about 200 of the 17,000 polygons
+    /// in front of it. Bit-identical.
+    HiddenLeftOut,
+    /// `walk_item_buffers`: as `HiddenLeftOut`, and the item buffer is not drawn but written. The
+    /// hidden-polygon walk already projects every polygon it keeps onto the shot's own pixel
+    /// centres; it also records there the ID of the nearest one (each piece clipped to the near
+    /// plane as the GPU clips it, no margins), and the pass uploads those IDs into the
+    /// item-buffer texture with glTexSubImage2D. llvmpipe is a CPU too: drawing cost the
+    /// issuing thread Mesa's vertex, clipping and set-up path and the rasteriser threads their
+    /// share, about 60 % of the CPU time of Lost Empire's visibility pass (docs/perf-log.md). The pixels differ
+    /// from drawn ones only where a centre lies on an edge, which the GPU's fill rule gives to
+    /// one side and the walk to the nearer (or first) polygon, and the answer moves as little
+    /// as with the other depth-tie switches. Off: the views are drawn, as the paper draws them.
+    ItemBuffersWritten,
+    /// `walk_receivers`: as `ItemBuffersWritten`, and the reconstruction draws only the lightmaps of the polygons that
+    /// the pass's item buffers let receive (`engine::seen_receivers`), plus the shooting
+    /// texels. The walk knows each pixel's polygon on the CPU, so a box of patches can be left
+    /// out when every pixel it can look up shows a polygon whose plane puts it behind, by the
+    /// reconstruction shader's own robust test. On Lost Empire a small shot reaches a few
+    /// hundred of 17,000 polygons, and the marking pass had run eight shooters' visibility tests
+    /// on every patch of the atlas, two thirds of the pass (docs/perf-log.md). The receivers are
+    /// a superset of those with a texel the shader finds visible: bit-identical.
+    ReceiversFound,
+    /// `few_shooter_programs`: as `ReceiversFound`, and (with several shooters a pass and the
+    /// marking pass) the
+    /// blocks that two to four of the pass's shooters may reach are shaded, for the sets of
+    /// shooters that reach the most blocks, by a program compiled for just those shooters,
+    /// rather than by the one for every shooter of the pass. llvmpipe runs each shooter's
+    /// visibility test and form factor for every fragment whatever they decide, and on Lost
+    /// Empire most such blocks are reached by two or three of the eight: the eight-shooter
+    /// program spent most of its time on shooters that add exactly zero there
+    /// (docs/perf-log.md). Those shooters add +0.0, so the sums are the same bit for bit.
+    FewShooterPrograms,
 }
 
 impl Tuning {
@@ -191,11 +205,8 @@ impl Tuning {
             plates: true,
             cull_solids: true,
             cull_between_samples: true,
-            cull_hidden: true,
-            walk_item_buffers: true,
+            walk: Walk::FewShooterPrograms,
             walk_up_to: WALK_UP_TO,
-            walk_receivers: true,
-            few_shooter_programs: true,
             flush_visibility: true,
             float_depth: true,
         }
@@ -222,11 +233,8 @@ impl Tuning {
             plates: false,
             cull_solids: false,
             cull_between_samples: false,
-            cull_hidden: false,
-            walk_item_buffers: false,
+            walk: Walk::Off,
             walk_up_to: 0,
-            walk_receivers: false,
-            few_shooter_programs: false,
             flush_visibility: false,
             float_depth: true,
         }
@@ -262,52 +270,61 @@ impl Tuning {
         }
     }
 
-    /// This tuning with the views drawn instead of walked: `walk_item_buffers` off, with what
-    /// needs it (`walk_receivers`, `few_shooter_programs`).
-    pub const fn drawing(self) -> Self {
+    /// This tuning with the views drawn instead of walked: the walk no further than
+    /// [`Walk::HiddenLeftOut`] (no item buffer written, so no receivers found), at every side.
+    pub fn drawing(self) -> Self {
         Tuning {
-            walk_item_buffers: false,
+            walk: self.walk.min(Walk::HiddenLeftOut),
             walk_up_to: 0,
-            walk_receivers: false,
-            few_shooter_programs: false,
             ..self
         }
+    }
+
+    /// Whether the walk leaves hidden polygons out ([`Walk::HiddenLeftOut`] or further).
+    pub fn cull_hidden(&self) -> bool {
+        self.walk >= Walk::HiddenLeftOut
+    }
+
+    /// Whether the walk writes the item buffers ([`Walk::ItemBuffersWritten`] or further).
+    pub fn walk_item_buffers(&self) -> bool {
+        self.walk >= Walk::ItemBuffersWritten
+    }
+
+    /// Whether the walk finds the receivers ([`Walk::ReceiversFound`] or further).
+    pub fn walk_receivers(&self) -> bool {
+        self.walk >= Walk::ReceiversFound
+    }
+
+    /// Whether the blocks a few shooters of a pass reach get programs for just those
+    /// ([`Walk::FewShooterPrograms`]; with the marking pass).
+    pub fn few_shooter_programs(&self) -> bool {
+        self.walk >= Walk::FewShooterPrograms
     }
 
     /// Whether the hidden-polygon walk runs for a shot `side` pixels a side (hemicube only;
     /// `cull_hidden`, `walk_up_to`).
     pub fn walks_hidden(&self, side: u32) -> bool {
-        self.cull_hidden && (self.walk_up_to == 0 || side <= self.walk_up_to)
+        self.cull_hidden() && (self.walk_up_to == 0 || side <= self.walk_up_to)
     }
 
     /// Whether the walk writes the item buffer of a shot `side` pixels a side (hemicube only;
     /// `walk_item_buffers`, `walk_up_to`).
     pub fn walks(&self, side: u32) -> bool {
-        self.walks_hidden(side) && self.walk_item_buffers
+        self.walks_hidden(side) && self.walk_item_buffers()
     }
 
     /// Refuse a combination of switches that cannot work together: each switch that needs
     /// another names it. Some switches are inert for some options (the walk and the solids
     /// need the hemicube); those are not refused here.
     pub fn check(&self) -> Result<(), String> {
+        // The walk's levels need one another by construction (`Walk`); what is left are needs
+        // across switches.
         let needs = [
             (
-                self.walk_receivers,
-                "walk_receivers",
-                self.walk_item_buffers,
-                "walk_item_buffers",
-            ),
-            (
-                self.walk_item_buffers,
-                "walk_item_buffers",
-                self.cull_hidden,
-                "cull_hidden",
-            ),
-            (
-                self.few_shooter_programs,
+                self.few_shooter_programs(),
                 "few_shooter_programs",
-                self.walk_receivers && self.marking_pass,
-                "walk_receivers and marking_pass",
+                self.marking_pass,
+                "marking_pass",
             ),
             (
                 self.skip_needless_clipping,
@@ -343,7 +360,7 @@ impl Tuning {
     /// can be cleared first): only when it neither leaves receivers out nor skips unmarked
     /// texels.
     pub fn writes_every_texel(&self) -> bool {
-        !self.receivers_only && !self.walk_receivers && !self.marking_pass
+        !self.receivers_only && !self.walk_receivers() && !self.marking_pass
     }
 }
 

@@ -208,7 +208,7 @@ impl Culling {
         tuning: &Tuning,
         plates: &Plates,
     ) -> Occluders {
-        if tuning.cull_hidden && kind == VisibilityKind::Hemicube {
+        if tuning.cull_hidden() && kind == VisibilityKind::Hemicube {
             Occluders::new(scene, plates)
         } else {
             Occluders::default()

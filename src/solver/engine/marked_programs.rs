@@ -97,7 +97,7 @@ impl MarkedPrograms {
         } else {
             None
         };
-        let one = if tuning.walk_receivers && tuning.marking_pass && shooters > 1 {
+        let one = if tuning.walk_receivers() && tuning.marking_pass && shooters > 1 {
             let marked = || fragment(1, compiled).define("MARKED", 1);
             Some(OneShooter {
                 marking: compile(fragment(1, compiled).define("MARK", 1))?,
@@ -106,7 +106,7 @@ impl MarkedPrograms {
         } else {
             None
         };
-        let few = if one.is_some() && tuning.few_shooter_programs {
+        let few = if one.is_some() && tuning.few_shooter_programs() {
             (2..shooters.min(FEW + 1))
                 .map(|k| {
                     let marked = || fragment(k, compiled).define("MARKED", 1);

@@ -70,7 +70,7 @@ impl MarkedSquares {
     pub fn wanted(tuning: &Tuning) -> bool {
         tuning.marking_pass
             || tuning.receivers_only
-            || tuning.walk_receivers
+            || tuning.walk_receivers()
             || tuning.squares_as_points
             || tuning.skip_needless_clipping
     }
@@ -136,7 +136,7 @@ impl MarkedSquares {
         let tuning = self.pass_tuning;
         // Each shooter's receivers, if the walk found them for every one
         // (`Tuning::walk_receivers`).
-        let seen: Option<Vec<&Reach>> = if tuning.walk_receivers {
+        let seen: Option<Vec<&Reach>> = if tuning.walk_receivers() {
             (0..shooters.len())
                 .map(|k| visibility.receivers_seen(k))
                 .collect()

@@ -156,6 +156,24 @@ impl VisibilityPass {
     }
 }
 
+/// After the emission, with the patch positions rasterised: set up the receivers' test of the
+/// walk (`Tuning::walk_receivers`, on the hemicube) for an atlas `width` texels wide. The
+/// paper's passes need nothing.
+pub fn after_emission(
+    visibility: &mut VisibilityPass,
+    reconstruction: &ReconstructionPass,
+    scene: &Scene,
+    options: &SolveOptions,
+    width: usize,
+) {
+    let tuning = &options.tuning;
+    if tuning.walk_receivers() && options.visibility == VisibilityKind::Hemicube {
+        let positions = reconstruction.patch_positions();
+        let block = ReconstructionPass::BLOCK as usize;
+        visibility.use_seen_receivers(SeenReceivers::new(scene, &positions, width, block));
+    }
+}
+
 /// Which variants of the paper's program `tuning` compiles.
 pub fn program_variants(tuning: &Tuning) -> ProgramVariants {
     ProgramVariants {
