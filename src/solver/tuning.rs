@@ -148,41 +148,39 @@ pub struct Tuning {
 pub enum Walk {
     /// No walk: the views are drawn with whatever the rest of the culling leaves out.
     Off,
-    /// `cull_hidden`: the polygons hidden behind nearer ones are left out
-    /// (`engine::occlusion`): a cube of directions around the shooter records how near a
-    /// drawn triangle covers each cell wholly, and what lies behind that in every cell it
-    /// reaches cannot show. A small shot on Lost Empire shows about 200 of the 17,000 polygons
-    /// in front of it. Bit-identical.
+    /// `cull_hidden`: the polygons hidden behind nearer ones are left out (`engine::occlusion`): a
+    /// cube of directions around the shooter records how near a drawn triangle covers each cell
+    /// wholly, and what lies behind that in every cell it reaches cannot show. A small shot on Lost
+    /// Empire shows about 200 of the 17,000 polygons in front of it. Bit-identical.
     HiddenLeftOut,
     /// `walk_item_buffers`: as `HiddenLeftOut`, and the item buffer is not drawn but written. The
     /// hidden-polygon walk already projects every polygon it keeps onto the shot's own pixel
     /// centres; it also records there the ID of the nearest one (each piece clipped to the near
-    /// plane as the GPU clips it, no margins), and the pass uploads those IDs into the
-    /// item-buffer texture with glTexSubImage2D. llvmpipe is a CPU too: drawing cost the
-    /// issuing thread Mesa's vertex, clipping and set-up path and the rasteriser threads their
-    /// share, about 60 % of the CPU time of Lost Empire's visibility pass (docs/perf-log.md). The pixels differ
-    /// from drawn ones only where a centre lies on an edge, which the GPU's fill rule gives to
-    /// one side and the walk to the nearer (or first) polygon, and the answer moves as little
-    /// as with the other depth-tie switches. Off: the views are drawn, as the paper draws them.
+    /// plane as the GPU clips it, no margins), and the pass uploads those IDs into the item-buffer
+    /// texture with glTexSubImage2D. llvmpipe is a CPU too: drawing cost the issuing thread Mesa's
+    /// vertex, clipping and set-up path and the rasteriser threads their share, about 60 % of the
+    /// CPU time of Lost Empire's visibility pass (docs/perf-log.md). The pixels differ from drawn
+    /// ones only where a centre lies on an edge, which the GPU's fill rule gives to one side and
+    /// the walk to the nearer (or first) polygon, and the answer moves as little as with the other
+    /// depth-tie switches.
     ItemBuffersWritten,
-    /// `walk_receivers`: as `ItemBuffersWritten`, and the reconstruction draws only the lightmaps of the polygons that
-    /// the pass's item buffers let receive (`engine::seen_receivers`), plus the shooting
-    /// texels. The walk knows each pixel's polygon on the CPU, so a box of patches can be left
-    /// out when every pixel it can look up shows a polygon whose plane puts it behind, by the
-    /// reconstruction shader's own robust test. On Lost Empire a small shot reaches a few
-    /// hundred of 17,000 polygons, and the marking pass had run eight shooters' visibility tests
-    /// on every patch of the atlas, two thirds of the pass (docs/perf-log.md). The receivers are
-    /// a superset of those with a texel the shader finds visible: bit-identical.
+    /// `walk_receivers`: as `ItemBuffersWritten`, and the reconstruction draws only the lightmaps
+    /// of the polygons that the pass's item buffers let receive (`engine::seen_receivers`), plus
+    /// the shooting texels. The walk knows each pixel's polygon on the CPU, so a box of patches can
+    /// be left out when every pixel it can look up shows a polygon whose plane puts it behind, by
+    /// the reconstruction shader's own robust test. On Lost Empire a small shot reaches a few
+    /// hundred of 17,000 polygons, and the marking pass had run eight shooters' visibility tests on
+    /// every patch of the atlas, two thirds of the pass (docs/perf-log.md). The receivers are a
+    /// superset of those with a texel the shader finds visible: bit-identical.
     ReceiversFound,
     /// `few_shooter_programs`: as `ReceiversFound`, and (with several shooters a pass and the
-    /// marking pass) the
-    /// blocks that two to four of the pass's shooters may reach are shaded, for the sets of
-    /// shooters that reach the most blocks, by a program compiled for just those shooters,
-    /// rather than by the one for every shooter of the pass. llvmpipe runs each shooter's
-    /// visibility test and form factor for every fragment whatever they decide, and on Lost
-    /// Empire most such blocks are reached by two or three of the eight: the eight-shooter
-    /// program spent most of its time on shooters that add exactly zero there
-    /// (docs/perf-log.md). Those shooters add +0.0, so the sums are the same bit for bit.
+    /// marking pass) the blocks that two to four of the pass's shooters may reach are shaded, for
+    /// the sets of shooters that reach the most blocks, by a program compiled for just those
+    /// shooters, rather than by the one for every shooter of the pass. llvmpipe runs each shooter's
+    /// visibility test and form factor for every fragment whatever they decide, and on Lost Empire
+    /// most such blocks are reached by two or three of the eight: the eight-shooter program spent
+    /// most of its time on shooters that add exactly zero there (docs/perf-log.md). Those shooters
+    /// add +0.0, so the sums are the same bit for bit.
     FewShooterPrograms,
 }
 

@@ -7,7 +7,7 @@
 //!   hidden-polygon walk of `occlusion` over the `box_tree`), draws coplanar neighbours as
 //!   `plates`, or writes the item buffer itself; `seen_receivers` finds from it what each shot
 //!   may reach;
-//! - what a reconstruction pass draws and with which program ([`AtlasDraw`]): [`MarkedSquares`]
+//! - what a reconstruction pass draws and with which program (`AtlasDraw`): `MarkedSquares`
 //!   draws only the blocks that can receive (`receivers`), after a marking pass whose rule
 //!   watches the share of patches each shot lit (`lit_share`), with the variants of
 //!   `marked_programs` (for one and for a few shooters of a pass too).
@@ -183,7 +183,7 @@ pub fn program_variants(tuning: &Tuning) -> ProgramVariants {
 }
 
 /// The reconstruction pass as `options.tuning` asks for it: the paper's whole-atlas draw, or the
-/// engine's [`MarkedSquares`].
+/// engine's `MarkedSquares`.
 impl ReconstructionPass {
     /// The pass for `scene` laid out as `layout` (without gutters), serving up to
     /// `options.shooters_per_pass` shooters a pass (and, with `Tuning::compile_choices`, only
@@ -226,5 +226,30 @@ impl ReconstructionPass {
     /// estimated it (`Tuning::marking_below`; 0 without it).
     pub fn lit_share(&self) -> f32 {
         self.engine().map_or(0.0, |e| e.lit_share())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_paper_and_gpu_profiles_get_the_papers_parts_and_none_of_the_engine() {
+        for kind in [VisibilityKind::Hemicube, VisibilityKind::Hemisphere] {
+            for tuning in [Tuning::none(), Tuning::gpu()] {
+                assert!(!CulledViews::wanted(&tuning, kind), "{tuning:?}");
+                assert!(!MarkedSquares::wanted(&tuning), "{tuning:?}");
+            }
+            assert!(CulledViews::wanted(&Tuning::llvmpipe(), kind));
+        }
+        assert!(MarkedSquares::wanted(&Tuning::llvmpipe()));
+        // The paper's profile draws the views and compiles the program as the paper does.
+        assert_eq!(view_setup(&Tuning::none()), ViewSetup::PAPER);
+        assert_eq!(program_variants(&Tuning::none()), ProgramVariants::PAPER);
+        // The GPU profile: the paper's views but for the half side faces, and two variants.
+        let gpu = view_setup(&Tuning::gpu());
+        assert_eq!((gpu.faces, gpu.guard_band), (FaceArea::AboveHorizon, 1));
+        let variants = program_variants(&Tuning::gpu());
+        assert!(variants.choices_compiled && variants.quads);
     }
 }

@@ -13,7 +13,7 @@
 //!
 //! The receivers are rasterised once, at initialisation, into atlas textures holding each patch's
 //! position, normal and reflectance (`patch_data.rs`, with the polygons' planes). What each pass
-//! draws, and with which program, is an [`AtlasDraw`] (`atlas_draw.rs`): the paper's draws every
+//! draws, and with which program, is an `AtlasDraw` (`atlas_draw.rs`): the paper's draws every
 //! patch, as squares of whole 4×4 texel blocks (`cover.rs`), into renderbuffers cleared first,
 //! with the program of `programs.rs` and the texture units and uniforms of `uniforms.rs`. The
 //! llvmpipe engine's (`solver::engine`) draws only the receivers' blocks after a marking pass;
