@@ -25,7 +25,7 @@ use glow::HasContext;
 use gpu_radiosity::gl::{BackendChoice, GlContext};
 use gpu_radiosity::pipeline;
 use gpu_radiosity::scene::LoadOptions;
-use gpu_radiosity::solver::{GpuSolver, SolveOptions};
+use gpu_radiosity::solver::{GpuSolver, ReceiverChoice, SolveOptions};
 use std::path::Path;
 use std::time::Instant;
 
@@ -55,14 +55,14 @@ fn configuration(changes: &str) -> SolveOptions {
             mark if mark.starts_with("mark=") => {
                 t.marking_below = mark[5..].parse().expect("mark=N: a percentage")
             }
-            "-receivers_only" => t.receivers_only = false,
-            "+receivers_only" => t.receivers_only = true,
+            "-receivers_only" => t.receivers = ReceiverChoice::Every,
+            "+receivers_only" => t.receivers = ReceiverChoice::InFront,
             "-marking_pass" => {
                 t.marking_pass = false;
                 // Few-shooter programs need the marking pass.
                 t.walk = t.walk.min(gpu_radiosity::solver::Walk::ReceiversFound);
             }
-            "-skip_needless_clipping" => t.skip_needless_clipping = false,
+            "-skip_needless_clipping" => t.receivers = t.receivers.min(ReceiverChoice::InFront),
             "-unroll_quads" => t.unroll_quads = false,
             "-compile_choices" => t.compile_choices = false,
             "-squares_as_points" => t.squares_as_points = false,

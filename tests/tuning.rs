@@ -10,7 +10,9 @@ mod common;
 use common::*;
 use gpu_radiosity::patches::{PatchLayout, Resolution};
 use gpu_radiosity::solver::reconstruction::{Lightmaps, ReconstructionPass};
-use gpu_radiosity::solver::{FormFactorKind, GpuSolver, SolveOptions, Tuning, Walk};
+use gpu_radiosity::solver::{
+    FormFactorKind, GpuSolver, ReceiverChoice, SolveOptions, Tuning, Walk,
+};
 
 #[test]
 fn squares_drawn_as_points_or_triangles_give_the_same_lightmaps() {
@@ -56,11 +58,8 @@ fn skipping_needless_clipping_changes_nothing_but_float_noise() {
     // shader variant that does not clip it: the same contour integral, so the same lightmaps up
     // to float rounding.
     // The variant needs the receivers' flags, so both solvers pick the receivers.
-    let receivers = |t: &mut Tuning| {
-        t.receivers_only = true;
-        t.skip_needless_clipping = true;
-    };
-    let off = |t: &mut Tuning| t.skip_needless_clipping = false;
+    let receivers = |t: &mut Tuning| t.receivers = ReceiverChoice::InFrontUnclipped;
+    let off = |t: &mut Tuning| t.receivers = ReceiverChoice::InFront;
     on_both_rooms_from(receivers, off, |name, mut split, mut clipped| {
         let (mut cheap, mut full) = (0, 0);
         for _ in 0..40 {
@@ -100,7 +99,7 @@ fn skipping_needless_clipping_changes_nothing_but_float_noise() {
 fn drawing_only_the_receivers_gives_the_same_lightmaps() {
     // The polygons left out can receive nothing from the shooter; their texels keep the last
     // copy's values, which are the textures'.
-    let on = |t: &mut Tuning| t.receivers_only = true;
+    let on = |t: &mut Tuning| t.receivers = ReceiverChoice::InFront;
     on_both_rooms(on, |name, mut every, mut receivers| {
         let (mut all, mut fewer) = (0, 0);
         for _ in 0..40 {

@@ -38,7 +38,7 @@ pub use ledger::{Ledger, PassTimes};
 pub use options::*;
 pub use profile::{ChosenTuning, Profile, TuningChoice};
 pub use progressive::{Backend, Member, Solver};
-pub use tuning::{Tuning, Walk};
+pub use tuning::{ReceiverChoice, Tuning, Walk};
 
 use crate::gl::GlError;
 

@@ -202,18 +202,23 @@ mod tests {
 
     #[test]
     fn switches_that_need_others_are_refused_without_them() {
-        // The walk's levels cannot be written apart (`Walk`); few-shooter programs need the
-        // marking pass.
+        // The walk's levels cannot be written apart (`Walk`), nor the receivers' choices
+        // (`ReceiverChoice`); few-shooter programs and the unclipped variant need the marking
+        // pass.
         let few = Tuning {
             marking_pass: false,
             ..Tuning::llvmpipe()
         };
         assert!(few.check().unwrap_err().contains("few_shooter_programs"));
         let skip = Tuning {
-            skip_needless_clipping: true,
+            receivers: crate::solver::ReceiverChoice::InFrontUnclipped,
             ..Tuning::none()
         };
-        assert!(skip.check().unwrap_err().contains("receivers_only"));
+        let e = skip.check().unwrap_err();
+        assert!(
+            e.contains("skip_needless_clipping needs marking_pass"),
+            "{e}"
+        );
         assert_eq!(Tuning::llvmpipe().drawing().check(), Ok(()));
         let guard = Tuning {
             guard_band: 0,

@@ -23,17 +23,9 @@
 /// renderer (`profile.rs`, `--tuning`). [`Tuning::check`] refuses switches that need others.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct Tuning {
-    /// Reconstruction: draw only the lightmaps of polygons that can receive from this shooter
-    /// (some of the polygon in front of the shooter and some of the shooter in front of it), plus
-    /// the shooter's texels. The others would add exactly zero; their renderbuffer texels keep
-    /// what the last `glCopyTexSubImage2D` copied into the textures, which is what the textures
-    /// hold. Off: every patch of the atlas is drawn each pass, as the paper draws the scene.
-    /// Off in [`Tuning::llvmpipe`] too: with the marking pass, a texel the shooter cannot see
-    /// costs only its visibility test, while choosing the receivers costs the main thread time
-    /// before each draw and breaks the cover into more, smaller squares; drawing everything
-    /// measured about 5 % faster on both rooms (docs/perf-log.md). Kept, and tested, for a
-    /// driver where shading costs more than choosing.
-    pub receivers_only: bool,
+    /// Reconstruction: which polygons a pass draws by where they lie ([`ReceiverChoice`]; the
+    /// walk's reach, `Walk::ReceiversFound`, overrides it).
+    pub receivers: ReceiverChoice,
     /// Reconstruction: a first draw runs only the visibility test and writes depth where a texel
     /// is seen from the shooter; the form factors then run with depth test EQUAL, which llvmpipe
     /// applies before the shader, so it skips every 4×2 group with nothing visible (about half of
@@ -49,13 +41,6 @@ pub struct Tuning {
     /// lights about half; at eight, where a pass lights more, the rule measured neutral on both
     /// (docs/perf-log.md). Same lightmaps either way, bit for bit.
     pub marking_below: u8,
-    /// Reconstruction: the blocks whose polygons all have the whole shooter above their plane are
-    /// drawn with a shader variant that does not clip the shooter to the receiver's tangent plane
-    /// (a third fewer instructions). Same sums up to float rounding (within 1e-6). Needs the
-    /// receivers' flags of `receivers_only` (and the marking pass), so off in
-    /// [`Tuning::llvmpipe`] with it: drawing everything with the clipping shader measured faster
-    /// than splitting the cover between the two.
-    pub skip_needless_clipping: bool,
     /// Reconstruction: quadrilateral shooters (the rooms' usual case) use a variant compiled for
     /// four corners, whose loops unroll (llvmpipe fetches a uniform array indexed by a run-time
     /// count lane by lane). Bit-identical; about 5 % less time per pass.
@@ -140,6 +125,33 @@ pub struct Tuning {
     pub float_depth: bool,
 }
 
+/// Which polygons a reconstruction pass draws, by where they lie (`Tuning::receivers`). Each
+/// choice does what the one before does, and more: skipping the clipping needs the receivers'
+/// flags that choosing them sets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReceiverChoice {
+    /// Every polygon with patches, each pass, as the paper draws the scene.
+    Every,
+    /// `receivers_only`: draw only the lightmaps of polygons that can receive from this shooter
+    /// (some of the polygon in front of the shooter and some of the shooter in front of it), plus
+    /// the shooter's texels. The others would add exactly zero; their renderbuffer texels keep what
+    /// the last `glCopyTexSubImage2D` copied into the textures, which is what the textures hold.
+    /// Off in [`Tuning::llvmpipe`] too: with the marking pass, a texel the shooter cannot see costs
+    /// only its visibility test, while choosing the receivers costs the main thread time before
+    /// each draw and breaks the cover into more, smaller squares; drawing everything measured about
+    /// 5 % faster on both rooms (docs/perf-log.md). Kept, and tested, for a driver where shading
+    /// costs more than choosing.
+    InFront,
+    /// `skip_needless_clipping`: as `InFront`, and the blocks whose polygons all have the whole
+    /// shooter above their plane are drawn with a shader variant that does not clip the shooter to
+    /// the receiver's tangent plane (a third fewer instructions). Same sums up to float rounding
+    /// (within 1e-6). Needs the marking pass too, and is off in [`Tuning::llvmpipe`] with it:
+    /// drawing everything with the clipping shader measured faster than splitting the cover between
+    /// the two.
+    InFrontUnclipped,
+}
+
 /// How far the hidden-polygon walk goes (hemicube only; `Tuning::walk`, `engine::occlusion`).
 /// Each level does what the one before does, and more: writing the item buffer needs the walk,
 /// and finding the receivers needs the item buffer written.
@@ -189,10 +201,9 @@ impl Tuning {
     /// the default for the accurate mode and the benchmarks.
     pub const fn llvmpipe() -> Self {
         Tuning {
-            receivers_only: false,
+            receivers: ReceiverChoice::Every,
             marking_pass: true,
             marking_below: 40,
-            skip_needless_clipping: false,
             unroll_quads: true,
             compile_choices: true,
             squares_as_points: true,
@@ -217,10 +228,9 @@ impl Tuning {
     /// whole scene in one draw.
     pub const fn none() -> Self {
         Tuning {
-            receivers_only: false,
+            receivers: ReceiverChoice::Every,
             marking_pass: false,
             marking_below: 100,
-            skip_needless_clipping: false,
             unroll_quads: false,
             compile_choices: false,
             squares_as_points: false,
@@ -278,6 +288,18 @@ impl Tuning {
         }
     }
 
+    /// Whether a pass draws only the polygons that can receive by where they lie
+    /// ([`ReceiverChoice::InFront`] or further).
+    pub fn receivers_only(&self) -> bool {
+        self.receivers >= ReceiverChoice::InFront
+    }
+
+    /// Whether blocks whose polygons have the whole shooter above them are shaded without
+    /// clipping ([`ReceiverChoice::InFrontUnclipped`]; with the marking pass).
+    pub fn skip_needless_clipping(&self) -> bool {
+        self.receivers >= ReceiverChoice::InFrontUnclipped
+    }
+
     /// Whether the walk leaves hidden polygons out ([`Walk::HiddenLeftOut`] or further).
     pub fn cull_hidden(&self) -> bool {
         self.walk >= Walk::HiddenLeftOut
@@ -325,10 +347,10 @@ impl Tuning {
                 "marking_pass",
             ),
             (
-                self.skip_needless_clipping,
+                self.skip_needless_clipping(),
                 "skip_needless_clipping",
-                self.receivers_only && self.marking_pass,
-                "receivers_only and marking_pass",
+                self.marking_pass,
+                "marking_pass",
             ),
         ];
         for (on, name, given, needed) in needs {
@@ -358,7 +380,7 @@ impl Tuning {
     /// can be cleared first): only when it neither leaves receivers out nor skips unmarked
     /// texels.
     pub fn writes_every_texel(&self) -> bool {
-        !self.receivers_only && !self.walk_receivers() && !self.marking_pass
+        !self.receivers_only() && !self.walk_receivers() && !self.marking_pass
     }
 }
 

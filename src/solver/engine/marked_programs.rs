@@ -87,7 +87,7 @@ impl MarkedPrograms {
         let for_slots = if tuning.marking_pass {
             Some(ForSlots {
                 marked: Variants::new(&compile, &marked, quads)?,
-                above: if tuning.skip_needless_clipping {
+                above: if tuning.skip_needless_clipping() {
                     Some(Variants::new(&compile, &above, quads)?)
                 } else {
                     None

@@ -69,10 +69,9 @@ impl MarkedSquares {
     /// not do.
     pub fn wanted(tuning: &Tuning) -> bool {
         tuning.marking_pass
-            || tuning.receivers_only
+            || tuning.receivers_only()
             || tuning.walk_receivers()
             || tuning.squares_as_points
-            || tuning.skip_needless_clipping
     }
 
     /// The draw for `scene` laid out as `layout` (without gutters) under `options`, whose

@@ -109,7 +109,7 @@ impl Receivers {
     /// Flag the blocks a pass for `shooters` must draw: the shooting texels, and the blocks
     /// that can receive from any of them: those `seen` lists for some shooter when given
     /// (`Tuning::walk_receivers`), else the lightmaps of every polygon with patches (only those
-    /// in front with `tuning.receivers_only`). A polygon has the shooters above it only if it
+    /// in front with `tuning.receivers_only()`). A polygon has the shooters above it only if it
     /// has every one of them above it (a shooter's own polygon, which it sends nothing, aside).
     /// `touched` gets the receivers and the shooters.
     pub(crate) fn select(
@@ -176,14 +176,14 @@ impl Receivers {
     }
 
     /// `select`'s receivers by where they lie: every polygon with patches, or (with
-    /// `tuning.receivers_only`) those some shooter is in front of and in front of some shooter.
+    /// `tuning.receivers_only()`) those some shooter is in front of and in front of some shooter.
     fn select_in_front(&mut self, shooters: &[Shooter], tuning: &Tuning, touched: &mut Vec<usize>) {
         let reaches: Vec<(Vec3, f32)> = shooters
             .iter()
             .map(|s| sphere_around(s.position, &s.corners[..s.corner_count.max(1)]))
             .collect();
         for &p in &self.with_patches {
-            let flag = if !tuning.receivers_only {
+            let flag = if !tuning.receivers_only() {
                 CLIPPED
             } else {
                 // Each shooter's reception, its own polygon left out (only its shooting texels
@@ -222,7 +222,7 @@ impl Receivers {
     /// that receives nothing must get its exact zero from the clipped factor; the shooter's
     /// texels get zero from either).
     pub(crate) fn shaders(tuning: &Tuning) -> (impl Fn(&u8) -> bool, impl Fn(&u8) -> bool) {
-        let skip = tuning.skip_needless_clipping && tuning.marking_pass;
+        let skip = tuning.skip_needless_clipping() && tuning.marking_pass;
         let above = move |f: &u8| skip && *f & !SHOOTER == SHOOTER_ABOVE;
         let clipped = move |f: &u8| *f & (SHOOTER_ABOVE | CLIPPED | SHOOTER) != 0 && !above(f);
         (clipped, above)
