@@ -44,7 +44,10 @@ fn passes(c: &mut Criterion) {
     )
     .unwrap();
     // As the solver draws it: coplanar neighbours as plates (hemicube, robust test).
-    let plates = visibility.merge_plates(&scene).vertex_data(&scene, &layout);
+    let plates = match visibility.merge_plates(&scene) {
+        Some(plates) => plates.vertex_data(&scene, &layout),
+        None => mesh::vertex_data(&scene, &layout),
+    };
     let geometry = mesh::upload_scene(&ctx.gl, &plates, scene.polygons.len()).unwrap();
     let patches = mesh::upload(&ctx.gl, &mesh::vertex_data(&scene, &layout)).unwrap();
     let mut reconstruction = ReconstructionPass::new(&ctx, &scene, &layout, &options).unwrap();

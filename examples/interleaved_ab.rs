@@ -25,7 +25,7 @@ use glow::HasContext;
 use gpu_radiosity::gl::{BackendChoice, GlContext};
 use gpu_radiosity::pipeline;
 use gpu_radiosity::scene::LoadOptions;
-use gpu_radiosity::solver::{GpuSolver, SolveOptions};
+use gpu_radiosity::solver::{GpuSolver, ReceiverChoice, SolveOptions};
 use std::path::Path;
 use std::time::Instant;
 
@@ -56,13 +56,14 @@ fn configuration(changes: &str) -> SolveOptions {
             mark if mark.starts_with("mark=") => {
                 t.marking_below = mark[5..].parse().expect("mark=N: a percentage")
             }
-            "-receivers_only" => t.receivers_only = false,
-            "+receivers_only" => t.receivers_only = true,
+            "-receivers_only" => t.receivers = ReceiverChoice::Every,
+            "+receivers_only" => t.receivers = ReceiverChoice::InFront,
             "-marking_pass" => {
                 t.marking_pass = false;
-                t.few_shooter_programs = false;
+                // Few-shooter programs need the marking pass.
+                t.walk = t.walk.min(gpu_radiosity::solver::Walk::ReceiversFound);
             }
-            "-skip_needless_clipping" => t.skip_needless_clipping = false,
+            "-skip_needless_clipping" => t.receivers = t.receivers.min(ReceiverChoice::InFront),
             "-unroll_quads" => t.unroll_quads = false,
             "-compile_choices" => t.compile_choices = false,
             "-squares_as_points" => t.squares_as_points = false,
@@ -73,10 +74,7 @@ fn configuration(changes: &str) -> SolveOptions {
             "-plates" => t.plates = false,
             "-cull_solids" => t.cull_solids = false,
             "-cull_between_samples" => t.cull_between_samples = false,
-            "-cull_hidden" => {
-                *t = t.drawing();
-                t.cull_hidden = false;
-            }
+            "-cull_hidden" => t.walk = gpu_radiosity::solver::Walk::Off,
             "-walk_item_buffers" => *t = t.drawing(),
             "-flush_visibility" => t.flush_visibility = false,
             other => panic!("unknown change '{other}' (see the file's comment)"),
@@ -194,7 +192,7 @@ fn main() {
         q(0.99),
         100.0 * (sum(&b) - sum(&a)) / sum(&a)
     );
-    let marked = |k: usize| solvers[k].backend().reconstruction.marked_passes;
+    let marked = |k: usize| solvers[k].backend().reconstruction.marked_passes();
     println!(
         "passes with the marking pass: A {}, B {}",
         marked(0),

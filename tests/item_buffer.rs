@@ -8,10 +8,10 @@ use common::*;
 use glam::Vec3;
 use gpu_radiosity::patches::PatchLayout;
 use gpu_radiosity::scene::Scene;
+use gpu_radiosity::solver::engine::solids::Solids;
 use gpu_radiosity::solver::mesh::{self, SceneMesh};
-use gpu_radiosity::solver::visibility::solids::Solids;
 use gpu_radiosity::solver::visibility::{face_rotations, VisibilityPass};
-use gpu_radiosity::solver::{GpuSolver, SolveOptions, Tuning, VisibilityKind};
+use gpu_radiosity::solver::{GpuSolver, SolveOptions, Tuning, VisibilityKind, Walk};
 
 /// The tuning for llvmpipe with the views drawn (`Tuning::walk_item_buffers` off): the GPU path
 /// these tests hold to account. `the_walk_writes_what_the_views_draw` compares the two.
@@ -336,7 +336,10 @@ fn plates_show_the_same_planes() {
     let n = scene.polygons.len();
     let pass = || VisibilityPass::new(&ctx, VisibilityKind::Hemicube, 128, drawn(), &scene);
     let mut merged = pass().unwrap();
-    let plates = merged.merge_plates(&scene).clone();
+    let plates = merged
+        .merge_plates(&scene)
+        .expect("the engine merges plates")
+        .clone();
     assert_eq!(
         plates.merged_away(),
         199,
@@ -363,7 +366,7 @@ fn plates_show_the_same_planes() {
 fn solids_and_plates_of_both_rooms() {
     // paper_notes 3.2.1's counts: the simple room has 211 solids (1,127 of its 1,602 polygons),
     // the complex one 1,216 (6,555 of 8,549); plates merge away 199 and 846 polygons.
-    use gpu_radiosity::solver::visibility::plates::Plates;
+    use gpu_radiosity::solver::engine::plates::Plates;
     for (name, solids_n, in_solids_n, merged_n) in
         [("simple", 211, 1127, 199), ("complex", 1216, 6555, 846)]
     {
@@ -444,7 +447,7 @@ fn a_pass_whose_draw_lists_are_built_aside_draws_the_same_item_buffers() {
 /// `step`th polygon's centroid and a point near its first corner, at several sides and turns:
 /// (shots, pixels compared, polygons left out). Every pixel that differs must have shown,
 /// without the culling, a polygon whose plane passes through the eye (seen edge-on, drawn as
-/// triangles of no area whose depth is noise: `visibility::occlusion`).
+/// triangles of no area whose depth is noise: `engine::occlusion`).
 fn hidden_polygons_left_out(
     scene: &Scene,
     patch_size: f32,
@@ -457,12 +460,15 @@ fn hidden_polygons_left_out(
     let pass = |tuning| VisibilityPass::new(&ctx, VisibilityKind::Hemicube, top, tuning, scene);
     let mut culled = pass(drawn()).unwrap();
     let mut whole = pass(Tuning {
-        cull_hidden: false,
+        walk: Walk::Off,
         ..drawn()
     })
     .unwrap();
     // As the solver draws them: plates as one polygon.
-    let data = culled.merge_plates(scene).vertex_data(scene, &layout);
+    let data = culled
+        .merge_plates(scene)
+        .expect("the engine merges plates")
+        .vertex_data(scene, &layout);
     whole.merge_plates(scene);
     let geometry = mesh::upload_scene(&ctx.gl, &data, n).unwrap();
     let solver = GpuSolver::new(&ctx, scene, &layout, SolveOptions::accurate()).unwrap();
@@ -544,7 +550,10 @@ fn walked_against_drawn(scene: &Scene, patch_size: f32, sides: &[u32]) -> (usize
     let pass = |tuning| VisibilityPass::new(&ctx, VisibilityKind::Hemicube, top, tuning, scene);
     let mut walked = pass(walked()).unwrap();
     let mut views = pass(drawn()).unwrap();
-    let data = walked.merge_plates(scene).vertex_data(scene, &layout);
+    let data = walked
+        .merge_plates(scene)
+        .expect("the engine merges plates")
+        .vertex_data(scene, &layout);
     views.merge_plates(scene);
     let geometry = mesh::upload_scene(&ctx.gl, &data, n).unwrap();
     let solver = GpuSolver::new(&ctx, scene, &layout, SolveOptions::accurate()).unwrap();

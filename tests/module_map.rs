@@ -143,8 +143,8 @@ fn the_map_reads_use_lists_and_inline_paths() {
 }
 
 /// The modules' imports lifted to folders: each module stands for the folder (or top-level file)
-/// that holds it `depth` levels below `src/` (`solver::visibility::culling` is `solver` at depth 1,
-/// `solver::visibility` at depth 2), edges between different folders only, self-loops dropped.
+/// that holds it `depth` levels below `src/` (`solver::engine::culling` is `solver` at depth 1,
+/// `solver::engine` at depth 2), edges between different folders only, self-loops dropped.
 fn folder_map(
     map: &BTreeMap<String, BTreeSet<String>>,
     depth: usize,

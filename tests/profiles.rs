@@ -50,16 +50,21 @@ fn auto_picks_the_llvmpipe_engine_on_mesas_software_rasteriser_and_says_why() {
     let at = |s: &str| stderr.find(s).unwrap_or_else(|| panic!("{s} in {stderr}"));
     assert!(at("tuning: ") < at("solved: "), "{stderr}");
     // The switches that ran are the profile's.
-    let walks = stats["tuning_switches"]["walk_item_buffers"].as_bool();
-    assert_eq!(walks, Some(software), "{}", stats["tuning_switches"]);
+    let walk = stats["tuning_switches"]["walk"].as_str();
+    let expected = if software {
+        "few_shooter_programs"
+    } else {
+        "off"
+    };
+    assert_eq!(walk, Some(expected), "{}", stats["tuning_switches"]);
 }
 
 #[test]
 fn each_forced_profile_runs_and_is_named() {
-    for (flag, walks, marks) in [
-        ("gpu", false, false),
-        ("paper", false, false),
-        ("llvmpipe", true, true),
+    for (flag, walk, marks) in [
+        ("gpu", "off", false),
+        ("paper", "off", false),
+        ("llvmpipe", "few_shooter_programs", true),
     ] {
         let (stderr, stats) = solve(&["--tuning", flag]);
         assert_eq!(stats["tuning"], flag);
@@ -69,7 +74,7 @@ fn each_forced_profile_runs_and_is_named() {
             format!("tuning: {flag} (--tuning {flag})")
         );
         let switches = &stats["tuning_switches"];
-        assert_eq!(switches["walk_item_buffers"], walks, "{flag}");
+        assert_eq!(switches["walk"], walk, "{flag}");
         assert_eq!(switches["marking_pass"], marks, "{flag}");
     }
     // The paper's mode keeps the paper's passes under `auto`; a named profile overrides it.

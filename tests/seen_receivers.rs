@@ -1,4 +1,4 @@
-//! What the walk finds a shot may reach (`visibility::seen_receivers`, `Tuning::walk_receivers`)
+//! What the walk finds a shot may reach (`engine::seen_receivers`, `Tuning::walk_receivers`)
 //! holds every patch the reconstruction shader finds visible: checked patch by patch against the
 //! shader's test (`Visible` in glsl/reconstruct.frag), written out here again in plain Rust, from
 //! shots spread over Lost Empire and the simple room. tests/tuning.rs checks that the lightmaps
@@ -9,7 +9,7 @@ mod common;
 use common::*;
 use glam::Vec3;
 use gpu_radiosity::scene::Scene;
-use gpu_radiosity::solver::visibility::seen_receivers::SeenReceivers;
+use gpu_radiosity::solver::engine::seen_receivers::SeenReceivers;
 use gpu_radiosity::solver::visibility::VisibilityPass;
 use gpu_radiosity::solver::{mesh, GpuSolver, Shooter, SolveOptions, Tuning, VisibilityKind};
 use std::collections::HashSet;
@@ -99,7 +99,10 @@ fn reach_against_shader(scene: &Scene, patch_size: f32, sides: &[u32]) -> [usize
         scene,
     )
     .unwrap();
-    let data = pass.merge_plates(scene).vertex_data(scene, &layout);
+    let data = pass
+        .merge_plates(scene)
+        .expect("the engine merges plates")
+        .vertex_data(scene, &layout);
     let geometry = mesh::upload_scene(&ctx.gl, &data, n).unwrap();
     pass.use_seen_receivers(SeenReceivers::new(scene, &positions, width, 4));
     let wide = width.div_ceil(4);

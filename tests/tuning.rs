@@ -10,7 +10,9 @@ mod common;
 use common::*;
 use gpu_radiosity::patches::{PatchLayout, Resolution};
 use gpu_radiosity::solver::reconstruction::{Lightmaps, ReconstructionPass};
-use gpu_radiosity::solver::{FormFactorKind, GpuSolver, SolveOptions, Tuning};
+use gpu_radiosity::solver::{
+    FormFactorKind, GpuSolver, ReceiverChoice, SolveOptions, Tuning, Walk,
+};
 
 #[test]
 fn squares_drawn_as_points_or_triangles_give_the_same_lightmaps() {
@@ -56,11 +58,8 @@ fn skipping_needless_clipping_changes_nothing_but_float_noise() {
     // shader variant that does not clip it: the same contour integral, so the same lightmaps up
     // to float rounding.
     // The variant needs the receivers' flags, so both solvers pick the receivers.
-    let receivers = |t: &mut Tuning| {
-        t.receivers_only = true;
-        t.skip_needless_clipping = true;
-    };
-    let off = |t: &mut Tuning| t.skip_needless_clipping = false;
+    let receivers = |t: &mut Tuning| t.receivers = ReceiverChoice::InFrontUnclipped;
+    let off = |t: &mut Tuning| t.receivers = ReceiverChoice::InFront;
     on_both_rooms_from(receivers, off, |name, mut split, mut clipped| {
         let (mut cheap, mut full) = (0, 0);
         for _ in 0..40 {
@@ -100,7 +99,7 @@ fn skipping_needless_clipping_changes_nothing_but_float_noise() {
 fn drawing_only_the_receivers_gives_the_same_lightmaps() {
     // The polygons left out can receive nothing from the shooter; their texels keep the last
     // copy's values, which are the textures'.
-    let on = |t: &mut Tuning| t.receivers_only = true;
+    let on = |t: &mut Tuning| t.receivers = ReceiverChoice::InFront;
     on_both_rooms(on, |name, mut every, mut receivers| {
         let (mut all, mut fewer) = (0, 0);
         for _ in 0..40 {
@@ -134,7 +133,7 @@ fn marking_after_some_shots_only_gives_the_same_lightmaps() {
     let mut never = solver(|t| {
         t.marking_pass = false;
         // Needs the marking pass (`Tuning::check`); bit for bit the same without.
-        t.few_shooter_programs = false;
+        t.walk = Walk::ReceiversFound;
     });
     let steps = 60;
     let d = step_both("simple, always", &mut adaptive, &mut always, steps);
@@ -144,7 +143,7 @@ fn marking_after_some_shots_only_gives_the_same_lightmaps() {
     }
     assert_eq!(adaptive.radiosity_atlas(), never.radiosity_atlas());
     assert_eq!(adaptive.unshot_atlas(), never.unshot_atlas());
-    let marked = |s: &GpuSolver<'_>| s.backend().reconstruction.marked_passes;
+    let marked = |s: &GpuSolver<'_>| s.backend().reconstruction.marked_passes();
     eprintln!(
         "passes marked: {} adaptive, {} always, {} never",
         marked(&adaptive),
@@ -314,7 +313,7 @@ fn the_gpu_profile_gives_the_llvmpipe_engines_lightmaps_but_for_edge_pixels() {
         );
         // The GPU profile culls nothing and marks nothing.
         assert_eq!(gpu.backend().visibility.missed(), 0);
-        assert_eq!(gpu.backend().reconstruction.marked_passes, 0);
+        assert_eq!(gpu.backend().reconstruction.marked_passes(), 0);
     }
 }
 
@@ -425,8 +424,8 @@ fn leaving_out_the_far_faces_of_solids_changes_nothing_but_float_noise() {
 #[test]
 fn leaving_out_hidden_polygons_gives_the_same_lightmaps() {
     // Polygons hidden behind nearer ones at every pixel centre they could cover
-    // (`visibility::occlusion`); tests/item_buffer.rs checks the item buffers pixel by pixel.
-    let off = |t: &mut Tuning| t.cull_hidden = false;
+    // (`engine::occlusion`); tests/item_buffer.rs checks the item buffers pixel by pixel.
+    let off = |t: &mut Tuning| t.walk = Walk::Off;
     on_both_rooms(off, |name, mut culled, mut whole| {
         let d = step_both(name, &mut culled, &mut whole, 40);
         println!("{name}: L1 difference {d}");
@@ -490,7 +489,7 @@ fn writing_the_item_buffers_from_the_walk_changes_nothing_but_edge_pixels() {
     // The walk records the nearest polygon at each pixel centre; the GPU draws the views. The
     // pixels that differ lie on edges (tests/item_buffer.rs counts them), and move the answer
     // no more than the other depth-tie switches.
-    let on = |t: &mut Tuning| t.walk_item_buffers = true;
+    let on = |t: &mut Tuning| t.walk = Walk::ItemBuffersWritten;
     on_both_rooms(on, |name, mut drawn, mut walked| {
         if name == "cornell" {
             let d = step_both(name, &mut drawn, &mut walked, 40);
@@ -516,14 +515,11 @@ fn writing_the_item_buffers_from_the_walk_changes_nothing_but_edge_pixels() {
 #[test]
 fn drawing_only_what_the_walk_reaches_gives_the_same_lightmaps() {
     // With the walk writing the item buffers, each pass draws only the blocks its shooters may
-    // reach (`visibility::seen_receivers`), and with several shooters a pass marks them shooter
+    // reach (`engine::seen_receivers`), and with several shooters a pass marks them shooter
     // by shooter and shades the blocks only one reaches with that one alone: bit for bit the
     // same lightmaps (tests/seen_receivers.rs checks the reach patch by patch).
-    let off = |t: &mut Tuning| {
-        t.walk_receivers = false;
-        // Needs `walk_receivers` (`Tuning::check`); bit for bit the same without.
-        t.few_shooter_programs = false;
-    };
+    // Few-shooter programs need the receivers found (`Walk`): off with them.
+    let off = |t: &mut Tuning| t.walk = Walk::ItemBuffersWritten;
     on_both_rooms_from(walk_every_side, off, |name, mut reached, mut every| {
         let (mut fewer, mut all) = (0, 0);
         for _ in 0..40 {
@@ -553,14 +549,18 @@ fn shading_shared_blocks_with_programs_for_just_their_shooters_gives_the_same_li
     // With the walk's reach, the blocks that two to four shooters of a pass alone may reach are
     // shaded by a program for just those shooters (`Tuning::few_shooter_programs`): every other
     // shooter adds +0.0 there, so the sums are the same bit for bit.
-    let off = |t: &mut Tuning| t.few_shooter_programs = false;
+    let off = |t: &mut Tuning| t.walk = Walk::ReceiversFound;
     let mut few_blocks = 0;
     on_both_rooms_from(walk_every_side, off, |name, mut few, mut all| {
         for _ in 0..40 {
             assert_eq!(step_both(name, &mut few, &mut all, 1), 0.0, "{name}");
         }
-        let blocks = few.backend().reconstruction.few_shooter_blocks;
-        assert_eq!(all.backend().reconstruction.few_shooter_blocks, 0, "{name}");
+        let blocks = few.backend().reconstruction.few_shooter_blocks();
+        assert_eq!(
+            all.backend().reconstruction.few_shooter_blocks(),
+            0,
+            "{name}"
+        );
         eprintln!("{name}: {blocks} blocks shaded by few-shooter programs");
         few_blocks += blocks;
     });
@@ -570,7 +570,7 @@ fn shading_shared_blocks_with_programs_for_just_their_shooters_gives_the_same_li
         for _ in 0..60 {
             assert_eq!(step_both("Lost Empire", &mut few, &mut all, 1), 0.0);
         }
-        let blocks = few.backend().reconstruction.few_shooter_blocks;
+        let blocks = few.backend().reconstruction.few_shooter_blocks();
         eprintln!("Lost Empire: {blocks} blocks shaded by few-shooter programs");
         assert!(
             blocks > 1000,
@@ -607,9 +607,7 @@ fn walk_every_side(t: &mut Tuning) {
         walk_up_to: 0,
         ..*t
     };
-    t.walk_item_buffers = true;
-    t.walk_receivers = true;
-    t.few_shooter_programs = true;
+    t.walk = Walk::FewShooterPrograms;
 }
 
 /// Step both solvers `shots` times (they must pick the same shooters) and return the larger

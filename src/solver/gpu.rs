@@ -6,9 +6,8 @@
 
 use super::progressive::{Backend, Solver};
 use super::reconstruction::{Lightmaps, ReconstructionPass};
-use super::visibility::seen_receivers::SeenReceivers;
 use super::visibility::VisibilityPass;
-use super::{mesh, Shooter, SolveError, SolveOptions, VisibilityKind};
+use super::{engine, mesh, Shooter, SolveError, SolveOptions, VisibilityKind};
 use crate::gl::GlContext;
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
@@ -91,7 +90,10 @@ impl<'a> GpuBackend<'a> {
             mesh::tessellated_data(scene, layout, size)
         } else if options.visibility == VisibilityKind::Hemicube && options.robust_visibility {
             // Plates: the robust test reads the shown polygon's plane, which a plate shares.
-            visibility.merge_plates(scene).vertex_data(scene, layout)
+            match visibility.merge_plates(scene) {
+                Some(plates) => plates.vertex_data(scene, layout),
+                None => mesh::vertex_data(scene, layout),
+            }
         } else {
             mesh::vertex_data(scene, layout)
         };
@@ -102,16 +104,14 @@ impl<'a> GpuBackend<'a> {
         // Initialise: every patch's unshot energy is its emission (3.2: "initialise E").
         reconstruction.emit(ctx, &mesh)?;
         reconstruction.copy_into(ctx, &lightmaps)?;
-        let tuning = options.tuning;
-        if tuning.walk_receivers
-            && tuning.walk_item_buffers
-            && tuning.cull_hidden
-            && options.visibility == VisibilityKind::Hemicube
-        {
-            let positions = reconstruction.patch_positions();
-            let (width, block) = (w as usize, ReconstructionPass::BLOCK as usize);
-            visibility.use_seen_receivers(SeenReceivers::new(scene, &positions, width, block));
-        }
+        // The llvmpipe engine's receivers' test reads the patch positions just rasterised.
+        engine::after_emission(
+            &mut visibility,
+            &reconstruction,
+            scene,
+            &options,
+            w as usize,
+        );
         let mut unshot = Vec::new();
         lightmaps.unshot.read_f32(&mut unshot);
         reconstruction.observe(&unshot);

@@ -15,6 +15,7 @@
 pub mod balance;
 pub mod clusters;
 pub mod cpu;
+pub mod engine;
 pub mod face_clusters;
 pub mod find_max_energy;
 pub mod form_factor;
@@ -37,7 +38,7 @@ pub use ledger::{Ledger, PassTimes};
 pub use options::*;
 pub use profile::{ChosenTuning, Profile, TuningChoice};
 pub use progressive::{Backend, Member, Solver};
-pub use tuning::Tuning;
+pub use tuning::{ReceiverChoice, Tuning, Walk};
 
 use crate::gl::GlError;
 

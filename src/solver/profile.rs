@@ -196,33 +196,29 @@ mod tests {
         }
         // The GPU profile draws every item buffer: no walk, nothing that needs it.
         let gpu = Tuning::gpu();
-        assert!(!gpu.walk_item_buffers && !gpu.cull_hidden && !gpu.walk_receivers);
+        assert_eq!(gpu.walk, crate::solver::Walk::Off);
         assert!(!(0..=1024).any(|side| gpu.walks(side)));
     }
 
     #[test]
     fn switches_that_need_others_are_refused_without_them() {
-        let walk_alone = Tuning {
-            cull_hidden: false,
-            ..Tuning::llvmpipe()
-        };
-        let e = walk_alone.check().unwrap_err();
-        assert!(e.contains("walk_item_buffers needs cull_hidden"), "{e}");
-        let receivers = Tuning {
-            walk_item_buffers: false,
-            ..Tuning::llvmpipe()
-        };
-        assert!(receivers.check().unwrap_err().contains("walk_receivers"));
+        // The walk's levels cannot be written apart (`Walk`), nor the receivers' choices
+        // (`ReceiverChoice`); few-shooter programs and the unclipped variant need the marking
+        // pass.
         let few = Tuning {
             marking_pass: false,
             ..Tuning::llvmpipe()
         };
         assert!(few.check().unwrap_err().contains("few_shooter_programs"));
         let skip = Tuning {
-            skip_needless_clipping: true,
+            receivers: crate::solver::ReceiverChoice::InFrontUnclipped,
             ..Tuning::none()
         };
-        assert!(skip.check().unwrap_err().contains("receivers_only"));
+        let e = skip.check().unwrap_err();
+        assert!(
+            e.contains("skip_needless_clipping needs marking_pass"),
+            "{e}"
+        );
         assert_eq!(Tuning::llvmpipe().drawing().check(), Ok(()));
         let guard = Tuning {
             guard_band: 0,

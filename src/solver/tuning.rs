@@ -4,7 +4,7 @@
 //! leaves the answer the same (bit for bit, or to float rounding where a switch says so; the
 //! A/B tests are in `tests/tuning.rs` and `tests/data_flow.rs`). The few that
 //! change the item buffer beyond depth ties stay on in [`Tuning::none`], and say why; one,
-//! [`walk_item_buffers`](Tuning::walk_item_buffers), writes the item buffer on the CPU instead of
+//! [`Walk::ItemBuffersWritten`], writes the item buffer on the CPU instead of
 //! drawing it, which moves pixel centres on edges (`tests/item_buffer.rs` counts them).
 //!
 //! Why llvmpipe needs its own tricks: it shades a block of 4×4 fragments at a time, runs both
@@ -23,17 +23,9 @@
 /// renderer (`profile.rs`, `--tuning`). [`Tuning::check`] refuses switches that need others.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct Tuning {
-    /// Reconstruction: draw only the lightmaps of polygons that can receive from this shooter
-    /// (some of the polygon in front of the shooter and some of the shooter in front of it), plus
-    /// the shooter's texels. The others would add exactly zero; their renderbuffer texels keep
-    /// what the last `glCopyTexSubImage2D` copied into the textures, which is what the textures
-    /// hold. Off: every patch of the atlas is drawn each pass, as the paper draws the scene.
-    /// Off in [`Tuning::llvmpipe`] too: with the marking pass, a texel the shooter cannot see
-    /// costs only its visibility test, while choosing the receivers costs the main thread time
-    /// before each draw and breaks the cover into more, smaller squares; drawing everything
-    /// measured about 5 % faster on both rooms (docs/perf-log.md). Kept, and tested, for a
-    /// driver where shading costs more than choosing.
-    pub receivers_only: bool,
+    /// Reconstruction: which polygons a pass draws by where they lie ([`ReceiverChoice`]; the
+    /// walk's reach, `Walk::ReceiversFound`, overrides it).
+    pub receivers: ReceiverChoice,
     /// Reconstruction: a first draw runs only the visibility test and writes depth where a texel
     /// is seen from the shooter; the form factors then run with depth test EQUAL, which llvmpipe
     /// applies before the shader, so it skips every 4×2 group with nothing visible (about half of
@@ -42,20 +34,13 @@ pub struct Tuning {
     pub marking_pass: bool,
     /// Reconstruction: run the marking pass only after a shot that lit fewer than this many per
     /// cent of the patches per pass (sampled from the unshot atlas read back after each shot,
-    /// `reconstruction::lit_share`); 100: before every pass. Marking pays where most texels are
+    /// `engine::lit_share`); 100: before every pass. Marking pays where most texels are
     /// hidden from every shooter of the pass and costs a second draw where most are lit: on
     /// llvmpipe at four shooters per pass it saved about 10 % in the complex room, where a shot
     /// lights about a quarter of the patches, and cost about 6 % in the simple room, where it
     /// lights about half; at eight, where a pass lights more, the rule measured neutral on both
     /// (docs/perf-log.md). Same lightmaps either way, bit for bit.
     pub marking_below: u8,
-    /// Reconstruction: the blocks whose polygons all have the whole shooter above their plane are
-    /// drawn with a shader variant that does not clip the shooter to the receiver's tangent plane
-    /// (a third fewer instructions). Same sums up to float rounding (within 1e-6). Needs the
-    /// receivers' flags of `receivers_only` (and the marking pass), so off in
-    /// [`Tuning::llvmpipe`] with it: drawing everything with the clipping shader measured faster
-    /// than splitting the cover between the two.
-    pub skip_needless_clipping: bool,
     /// Reconstruction: quadrilateral shooters (the rooms' usual case) use a variant compiled for
     /// four corners, whose loops unroll (llvmpipe fetches a uniform array indexed by a run-time
     /// count lane by lane). Bit-identical; about 5 % less time per pass.
@@ -96,39 +81,25 @@ pub struct Tuning {
     pub half_side_faces: bool,
     /// Visibility (hemicube with the robust test): coplanar neighbours outside the convex
     /// solids (floor planks, ceiling tiles) are merged into convex plates and drawn as one
-    /// polygon under the first one's ID (`visibility::plates`): a few large triangles cost
+    /// polygon under the first one's ID (`engine::plates`): a few large triangles cost
     /// llvmpipe much less to set up and bin than hundreds of small ones. The robust test reads
     /// only the shown polygon's plane, which a plate shares; the pixels that change are those
     /// whose centres lie on the joints merging removed (depth ties).
     pub plates: bool,
     /// Visibility (hemicube): the faces of convex solids turned away from a shooter outside them
-    /// are left out (`visibility::solids`): they can never be the first thing seen. The pixels
+    /// are left out (`engine::solids`): they can never be the first thing seen. The pixels
     /// that change are those whose centres lie on an edge where a near and a far face meet (a
     /// depth tie; 715 of 37.5 million on the simple room).
     pub cull_solids: bool,
     /// Visibility (hemicube): each view leaves out the polygons whose projected corners span no
-    /// pixel centre across or none up and down (`visibility::samples`): the item buffer has one
+    /// pixel centre across or none up and down (`engine::samples`): the item buffer has one
     /// sample per pixel, so they would make no fragment. Small shots draw 16² to 60² pixels
     /// per face, where a book's spine is a fraction of a pixel, and llvmpipe sets up and bins
     /// every triangle it is given on one thread. Bit-identical.
     pub cull_between_samples: bool,
-    /// Visibility (hemicube): the polygons hidden behind nearer ones are left out
-    /// (`visibility::occlusion`): a cube of directions around the shooter records how near a
-    /// drawn triangle covers each cell wholly, and what lies behind that in every cell it
-    /// reaches cannot show. A small shot on Lost Empire shows about 200 of the 17,000 polygons
-    /// in front of it. Bit-identical.
-    pub cull_hidden: bool,
-    /// Visibility (hemicube, with `cull_hidden`): the item buffer is not drawn but written. The
-    /// hidden-polygon walk already projects every polygon it keeps onto the shot's own pixel
-    /// centres; it also records there the ID of the nearest one (each piece clipped to the near
-    /// plane as the GPU clips it, no margins), and the pass uploads those IDs into the
-    /// item-buffer texture with glTexSubImage2D. llvmpipe is a CPU too: drawing cost the
-    /// issuing thread Mesa's vertex, clipping and set-up path and the rasteriser threads their
-    /// share, about 60 % of the CPU time of Lost Empire's visibility pass (docs/perf-log.md). The pixels differ
-    /// from drawn ones only where a centre lies on an edge, which the GPU's fill rule gives to
-    /// one side and the walk to the nearer (or first) polygon, and the answer moves as little
-    /// as with the other depth-tie switches. Off: the views are drawn, as the paper draws them.
-    pub walk_item_buffers: bool,
+    /// Visibility (hemicube): how far the hidden-polygon walk goes ([`Walk`]); each level needs
+    /// the ones before it, so that a combination that cannot work cannot be written.
+    pub walk: Walk,
     /// Visibility (with `cull_hidden`), in passes of one shooter: the hidden-polygon walk runs
     /// (leaving hidden polygons out, and with `walk_item_buffers` writing the item buffer)
     /// only for shots whose item buffer is at most this many pixels a side; larger ones are
@@ -141,24 +112,6 @@ pub struct Tuning {
     /// item buffers draws the whole atlas with the marking pass (`receivers_seen` is known for
     /// walked slots only). 0: no limit.
     pub walk_up_to: u32,
-    /// Reconstruction (with `walk_item_buffers`): draw only the lightmaps of the polygons that
-    /// the pass's item buffers let receive (`visibility::seen_receivers`), plus the shooting
-    /// texels. The walk knows each pixel's polygon on the CPU, so a box of patches can be left
-    /// out when every pixel it can look up shows a polygon whose plane puts it behind, by the
-    /// reconstruction shader's own robust test. On Lost Empire a small shot reaches a few
-    /// hundred of 17,000 polygons, and the marking pass had run eight shooters' visibility tests
-    /// on every patch of the atlas, two thirds of the pass (docs/perf-log.md). The receivers are
-    /// a superset of those with a texel the shader finds visible: bit-identical.
-    pub walk_receivers: bool,
-    /// Reconstruction (with `walk_receivers`, several shooters a pass and the marking pass): the
-    /// blocks that two to four of the pass's shooters may reach are shaded, for the sets of
-    /// shooters that reach the most blocks, by a program compiled for just those shooters,
-    /// rather than by the one for every shooter of the pass. llvmpipe runs each shooter's
-    /// visibility test and form factor for every fragment whatever they decide, and on Lost
-    /// Empire most such blocks are reached by two or three of the eight: the eight-shooter
-    /// program spent most of its time on shooters that add exactly zero there
-    /// (docs/perf-log.md). Those shooters add +0.0, so the sums are the same bit for bit.
-    pub few_shooter_programs: bool,
     /// Visibility: a glFlush at the end of the pass, so that llvmpipe rasterises the item
     /// buffer while the CPU picks the receivers (otherwise it waits until the reconstruction
     /// binds the item buffer). Bit-identical.
@@ -172,15 +125,85 @@ pub struct Tuning {
     pub float_depth: bool,
 }
 
+/// Which polygons a reconstruction pass draws, by where they lie (`Tuning::receivers`). Each
+/// choice does what the one before does, and more: skipping the clipping needs the receivers'
+/// flags that choosing them sets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReceiverChoice {
+    /// Every polygon with patches, each pass, as the paper draws the scene.
+    Every,
+    /// `receivers_only`: draw only the lightmaps of polygons that can receive from this shooter
+    /// (some of the polygon in front of the shooter and some of the shooter in front of it), plus
+    /// the shooter's texels. The others would add exactly zero; their renderbuffer texels keep what
+    /// the last `glCopyTexSubImage2D` copied into the textures, which is what the textures hold.
+    /// Off in [`Tuning::llvmpipe`] too: with the marking pass, a texel the shooter cannot see costs
+    /// only its visibility test, while choosing the receivers costs the main thread time before
+    /// each draw and breaks the cover into more, smaller squares; drawing everything measured about
+    /// 5 % faster on both rooms (docs/perf-log.md). Kept, and tested, for a driver where shading
+    /// costs more than choosing.
+    InFront,
+    /// `skip_needless_clipping`: as `InFront`, and the blocks whose polygons all have the whole
+    /// shooter above their plane are drawn with a shader variant that does not clip the shooter to
+    /// the receiver's tangent plane (a third fewer instructions). Same sums up to float rounding
+    /// (within 1e-6). Needs the marking pass too, and is off in [`Tuning::llvmpipe`] with it:
+    /// drawing everything with the clipping shader measured faster than splitting the cover between
+    /// the two.
+    InFrontUnclipped,
+}
+
+/// How far the hidden-polygon walk goes (hemicube only; `Tuning::walk`, `engine::occlusion`).
+/// Each level does what the one before does, and more: writing the item buffer needs the walk,
+/// and finding the receivers needs the item buffer written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Walk {
+    /// No walk: the views are drawn with whatever the rest of the culling leaves out.
+    Off,
+    /// `cull_hidden`: the polygons hidden behind nearer ones are left out (`engine::occlusion`): a
+    /// cube of directions around the shooter records how near a drawn triangle covers each cell
+    /// wholly, and what lies behind that in every cell it reaches cannot show. A small shot on Lost
+    /// Empire shows about 200 of the 17,000 polygons in front of it. Bit-identical.
+    HiddenLeftOut,
+    /// `walk_item_buffers`: as `HiddenLeftOut`, and the item buffer is not drawn but written. The
+    /// hidden-polygon walk already projects every polygon it keeps onto the shot's own pixel
+    /// centres; it also records there the ID of the nearest one (each piece clipped to the near
+    /// plane as the GPU clips it, no margins), and the pass uploads those IDs into the item-buffer
+    /// texture with glTexSubImage2D. llvmpipe is a CPU too: drawing cost the issuing thread Mesa's
+    /// vertex, clipping and set-up path and the rasteriser threads their share, about 60 % of the
+    /// CPU time of Lost Empire's visibility pass (docs/perf-log.md). The pixels differ from drawn
+    /// ones only where a centre lies on an edge, which the GPU's fill rule gives to one side and
+    /// the walk to the nearer (or first) polygon, and the answer moves as little as with the other
+    /// depth-tie switches.
+    ItemBuffersWritten,
+    /// `walk_receivers`: as `ItemBuffersWritten`, and the reconstruction draws only the lightmaps
+    /// of the polygons that the pass's item buffers let receive (`engine::seen_receivers`), plus
+    /// the shooting texels. The walk knows each pixel's polygon on the CPU, so a box of patches can
+    /// be left out when every pixel it can look up shows a polygon whose plane puts it behind, by
+    /// the reconstruction shader's own robust test. On Lost Empire a small shot reaches a few
+    /// hundred of 17,000 polygons, and the marking pass had run eight shooters' visibility tests on
+    /// every patch of the atlas, two thirds of the pass (docs/perf-log.md). The receivers are a
+    /// superset of those with a texel the shader finds visible: bit-identical.
+    ReceiversFound,
+    /// `few_shooter_programs`: as `ReceiversFound`, and (with several shooters a pass and the
+    /// marking pass) the blocks that two to four of the pass's shooters may reach are shaded, for
+    /// the sets of shooters that reach the most blocks, by a program compiled for just those
+    /// shooters, rather than by the one for every shooter of the pass. llvmpipe runs each shooter's
+    /// visibility test and form factor for every fragment whatever they decide, and on Lost Empire
+    /// most such blocks are reached by two or three of the eight: the eight-shooter program spent
+    /// most of its time on shooters that add exactly zero there (docs/perf-log.md). Those shooters
+    /// add +0.0, so the sums are the same bit for bit.
+    FewShooterPrograms,
+}
+
 impl Tuning {
     /// Everything that pays on llvmpipe (all but `receivers_only` and `skip_needless_clipping`):
     /// the default for the accurate mode and the benchmarks.
     pub const fn llvmpipe() -> Self {
         Tuning {
-            receivers_only: false,
+            receivers: ReceiverChoice::Every,
             marking_pass: true,
             marking_below: 40,
-            skip_needless_clipping: false,
             unroll_quads: true,
             compile_choices: true,
             squares_as_points: true,
@@ -191,11 +214,8 @@ impl Tuning {
             plates: true,
             cull_solids: true,
             cull_between_samples: true,
-            cull_hidden: true,
-            walk_item_buffers: true,
+            walk: Walk::FewShooterPrograms,
             walk_up_to: WALK_UP_TO,
-            walk_receivers: true,
-            few_shooter_programs: true,
             flush_visibility: true,
             float_depth: true,
         }
@@ -208,10 +228,9 @@ impl Tuning {
     /// whole scene in one draw.
     pub const fn none() -> Self {
         Tuning {
-            receivers_only: false,
+            receivers: ReceiverChoice::Every,
             marking_pass: false,
             marking_below: 100,
-            skip_needless_clipping: false,
             unroll_quads: false,
             compile_choices: false,
             squares_as_points: false,
@@ -222,11 +241,8 @@ impl Tuning {
             plates: false,
             cull_solids: false,
             cull_between_samples: false,
-            cull_hidden: false,
-            walk_item_buffers: false,
+            walk: Walk::Off,
             walk_up_to: 0,
-            walk_receivers: false,
-            few_shooter_programs: false,
             flush_visibility: false,
             float_depth: true,
         }
@@ -262,58 +278,79 @@ impl Tuning {
         }
     }
 
-    /// This tuning with the views drawn instead of walked: `walk_item_buffers` off, with what
-    /// needs it (`walk_receivers`, `few_shooter_programs`).
-    pub const fn drawing(self) -> Self {
+    /// This tuning with the views drawn instead of walked: the walk no further than
+    /// [`Walk::HiddenLeftOut`] (no item buffer written, so no receivers found), at every side.
+    pub fn drawing(self) -> Self {
         Tuning {
-            walk_item_buffers: false,
+            walk: self.walk.min(Walk::HiddenLeftOut),
             walk_up_to: 0,
-            walk_receivers: false,
-            few_shooter_programs: false,
             ..self
         }
+    }
+
+    /// Whether a pass draws only the polygons that can receive by where they lie
+    /// ([`ReceiverChoice::InFront`] or further).
+    pub fn receivers_only(&self) -> bool {
+        self.receivers >= ReceiverChoice::InFront
+    }
+
+    /// Whether blocks whose polygons have the whole shooter above them are shaded without
+    /// clipping ([`ReceiverChoice::InFrontUnclipped`]; with the marking pass).
+    pub fn skip_needless_clipping(&self) -> bool {
+        self.receivers >= ReceiverChoice::InFrontUnclipped
+    }
+
+    /// Whether the walk leaves hidden polygons out ([`Walk::HiddenLeftOut`] or further).
+    pub fn cull_hidden(&self) -> bool {
+        self.walk >= Walk::HiddenLeftOut
+    }
+
+    /// Whether the walk writes the item buffers ([`Walk::ItemBuffersWritten`] or further).
+    pub fn walk_item_buffers(&self) -> bool {
+        self.walk >= Walk::ItemBuffersWritten
+    }
+
+    /// Whether the walk finds the receivers ([`Walk::ReceiversFound`] or further).
+    pub fn walk_receivers(&self) -> bool {
+        self.walk >= Walk::ReceiversFound
+    }
+
+    /// Whether the blocks a few shooters of a pass reach get programs for just those
+    /// ([`Walk::FewShooterPrograms`]; with the marking pass).
+    pub fn few_shooter_programs(&self) -> bool {
+        self.walk >= Walk::FewShooterPrograms
     }
 
     /// Whether the hidden-polygon walk runs for a shot `side` pixels a side (hemicube only;
     /// `cull_hidden`, `walk_up_to`).
     pub fn walks_hidden(&self, side: u32) -> bool {
-        self.cull_hidden && (self.walk_up_to == 0 || side <= self.walk_up_to)
+        self.cull_hidden() && (self.walk_up_to == 0 || side <= self.walk_up_to)
     }
 
     /// Whether the walk writes the item buffer of a shot `side` pixels a side (hemicube only;
     /// `walk_item_buffers`, `walk_up_to`).
     pub fn walks(&self, side: u32) -> bool {
-        self.walks_hidden(side) && self.walk_item_buffers
+        self.walks_hidden(side) && self.walk_item_buffers()
     }
 
     /// Refuse a combination of switches that cannot work together: each switch that needs
     /// another names it. Some switches are inert for some options (the walk and the solids
     /// need the hemicube); those are not refused here.
     pub fn check(&self) -> Result<(), String> {
+        // The walk's levels need one another by construction (`Walk`); what is left are needs
+        // across switches.
         let needs = [
             (
-                self.walk_receivers,
-                "walk_receivers",
-                self.walk_item_buffers,
-                "walk_item_buffers",
-            ),
-            (
-                self.walk_item_buffers,
-                "walk_item_buffers",
-                self.cull_hidden,
-                "cull_hidden",
-            ),
-            (
-                self.few_shooter_programs,
+                self.few_shooter_programs(),
                 "few_shooter_programs",
-                self.walk_receivers && self.marking_pass,
-                "walk_receivers and marking_pass",
+                self.marking_pass,
+                "marking_pass",
             ),
             (
-                self.skip_needless_clipping,
+                self.skip_needless_clipping(),
                 "skip_needless_clipping",
-                self.receivers_only && self.marking_pass,
-                "receivers_only and marking_pass",
+                self.marking_pass,
+                "marking_pass",
             ),
         ];
         for (on, name, given, needed) in needs {
@@ -343,7 +380,7 @@ impl Tuning {
     /// can be cleared first): only when it neither leaves receivers out nor skips unmarked
     /// texels.
     pub fn writes_every_texel(&self) -> bool {
-        !self.receivers_only && !self.walk_receivers && !self.marking_pass
+        !self.receivers_only() && !self.walk_receivers() && !self.marking_pass
     }
 }
 

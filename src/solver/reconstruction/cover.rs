@@ -13,14 +13,14 @@ use glow::HasContext;
 
 /// Squares are made of whole blocks of 4×4 texels: llvmpipe shades a block of 4×4 fragments at a
 /// time, all of them, even where the primitive covers one.
-pub(super) const BLOCK: u32 = 4;
+pub(crate) const BLOCK: u32 = 4;
 /// Larger squares would be drawn partly over blocks that need nothing.
 const LARGEST_SQUARE: u32 = 64;
 
 /// The squares a pass draws (rebuilt every pass), in runs: for the pass proper, those drawn with
 /// the shader that clips the shooter to the receiver's plane, then those drawn without; for the
 /// marking pass shooter by shooter (`Tuning::walk_receivers`), each shooter's.
-pub(super) struct Squares {
+pub(crate) struct Squares {
     /// Points (centre, side) or two triangles each (corner, 0).
     mesh: Mesh,
     vertices: Vec<f32>,
@@ -38,12 +38,12 @@ pub(super) struct Squares {
     /// The viewport: the atlas rounded up to whole largest squares, so that every square's
     /// centre lies inside it (a point whose centre is clipped away draws nothing); the scissor
     /// keeps fragments inside the atlas.
-    pub(super) viewport: (i32, i32),
+    pub(crate) viewport: (i32, i32),
 }
 
 impl Squares {
     /// Squares over an atlas of `width` × `height` texels.
-    pub(super) fn new(gl: &Gl, width: i32, height: i32) -> Result<Self, GlError> {
+    pub(crate) fn new(gl: &Gl, width: i32, height: i32) -> Result<Self, GlError> {
         let mesh = Mesh::new(
             gl,
             &[],
@@ -87,7 +87,7 @@ impl Squares {
     /// Cover, one run after another, the blocks (`masks`: one per block, rows of `wide` blocks)
     /// whose mask has bit r, for each r below `runs`, as points when `points` asks and the driver
     /// allows, and upload them.
-    pub(super) fn build(&mut self, masks: &[u32], wide: usize, points: bool, runs: usize) {
+    pub(crate) fn build(&mut self, masks: &[u32], wide: usize, points: bool, runs: usize) {
         self.as_points = points && self.points_fit;
         self.vertices.clear();
         self.runs.clear();
@@ -108,12 +108,12 @@ impl Squares {
     }
 
     /// Whether the last squares were built as points.
-    pub(super) fn as_points(&self) -> bool {
+    pub(crate) fn as_points(&self) -> bool {
         self.as_points
     }
 
     /// The primitive they are drawn with.
-    pub(super) fn mode(&self) -> u32 {
+    pub(crate) fn mode(&self) -> u32 {
         if self.as_points {
             glow::POINTS
         } else {
@@ -122,27 +122,27 @@ impl Squares {
     }
 
     /// The vertex range (first, count) of run `k` of the last `build` (none: empty).
-    pub(super) fn run(&self, k: usize) -> (i32, i32) {
+    pub(crate) fn run(&self, k: usize) -> (i32, i32) {
         self.runs.get(k).copied().unwrap_or((0, 0))
     }
 
     /// Draw every square (the marking pass, for all shooters at once).
-    pub(super) fn draw_all(&self) {
+    pub(crate) fn draw_all(&self) {
         self.draw(0, self.mesh.vertex_count);
     }
 
-    pub(super) fn draw(&self, first: i32, count: i32) {
+    pub(crate) fn draw(&self, first: i32, count: i32) {
         self.mesh.draw_arrays(self.mode(), first, count);
     }
 
     /// How many texels the last pass's squares covered.
-    pub(super) fn texels(&self) -> usize {
+    pub(crate) fn texels(&self) -> usize {
         self.texels
     }
 
     /// How many squares the last pass drew with the clipping shader and with the other (run 1;
     /// every other run clips).
-    pub(super) fn drawn(&self) -> (usize, usize) {
+    pub(crate) fn drawn(&self) -> (usize, usize) {
         let per_square = if self.as_points { 1 } else { 6 };
         let above = self.run(1).1 as usize / per_square;
         let all = self.mesh.vertex_count as usize / per_square;

@@ -12,46 +12,41 @@
 //! ```
 //!
 //! The receivers are rasterised once, at initialisation, into atlas textures holding each patch's
-//! position, normal and reflectance (`patch_data.rs`, with the polygons' planes); every pass
-//! then picks the blocks to draw (`receivers.rs`) and draws squares of whole 4×4 texel blocks
-//! covering them (`cover.rs`), with the programs of `programs.rs` and the texture units and
-//! uniforms of `uniforms.rs`. With `Tuning::none()` (the paper's mode) every patch is drawn
-//! every pass, into renderbuffers cleared first. The speed switches of `Tuning` run a marking
-//! pass so that only the texels the shooter sees compute form factors (and can draw only the
-//! receivers' blocks); the texels they leave alone keep the renderbuffers' values, which the
-//! last copy also put into the textures.
+//! position, normal and reflectance (`patch_data.rs`, with the polygons' planes). What each pass
+//! draws, and with which program, is an `AtlasDraw` (`atlas_draw.rs`): the paper's draws every
+//! patch, as squares of whole 4×4 texel blocks (`cover.rs`), into renderbuffers cleared first,
+//! with the program of `programs.rs` and the texture units and uniforms of `uniforms.rs`. The
+//! llvmpipe engine's (`solver::engine`) draws only the receivers' blocks after a marking pass;
+//! the texels it leaves alone keep the renderbuffers' values, which the last copy also put into
+//! the textures. This file does not know it.
 //!
 //! Two attachments: 0 = radiosity + ΔL, 1 = unshot + ΔL (zero for the texels that shoot).
 
+mod atlas_draw;
 mod cover;
-mod lit_share;
 mod patch_data;
 mod programs;
-mod receivers;
 mod uniforms;
 
+pub(crate) use atlas_draw::{
+    begin_squares, end_squares, patch_blocks, AtlasDraw, Pass, WholeAtlas,
+};
+pub(crate) use cover::{Squares, BLOCK};
+pub(crate) use patch_data::PolygonPlanes;
+pub use programs::ProgramVariants;
+pub(crate) use programs::{compile, fragment, Choices, Variants};
+pub(crate) use uniforms::{Uniforms, UNITS};
+
 use super::pass_names::{ACCUMULATION, INITIALISATION, RECONSTRUCTION};
-use super::visibility::seen_receivers::Reach;
 use super::visibility::VisibilityPass;
-use super::{Shooter, SolveOptions, Tuning};
+use super::{Shooter, SolveOptions};
 use crate::gl::faults::{self, Fault};
 use crate::gl::{Framebuffer, GlContext, GlError, Mesh, Renderbuffer, Texture, TextureFormat};
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
-use cover::Squares;
 use glow::HasContext;
-use patch_data::{PatchData, PolygonPlanes};
-use programs::{Choices, Programs};
-use receivers::Receivers;
-use uniforms::{Uniforms, UNITS};
-
-/// How many runs of squares a pass can have: one bit of a block's mask each (`Squares::build`).
-const RUNS: usize = 32;
-
-/// The fewest shooter evaluations (blocks × shooters left out) for which a set of shooters gets a
-/// draw of its own with a few-shooter program (`Tuning::few_shooter_programs`): below, the
-/// draw's uniforms and state cost the main thread more than the rasteriser saves.
-const MIN_SAVED: u32 = 64;
+use patch_data::PatchData;
+use programs::Programs;
 
 /// The two lightmap atlases of section 3.1: accumulated and unshot radiance (RGBA32F, alpha =
 /// polygon ID + 1). The reconstruction pass samples them; the copies after it replace them.
@@ -82,32 +77,36 @@ impl Lightmaps {
 }
 
 /// What the pass draws into: an FBO of two RGBA32F renderbuffers the size of the atlas (the
-/// outputs), and a depth renderbuffer for the marking pass.
+/// outputs), and the depth buffer its draw asks for, if any (`AtlasDraw::depth`).
 struct Renderbuffers {
     fbo: Framebuffer,
     _radiosity: Renderbuffer,
     _unshot: Renderbuffer,
-    _marks: Renderbuffer,
     width: i32,
     height: i32,
 }
 
 impl Renderbuffers {
-    fn new(ctx: &GlContext, width: i32, height: i32) -> Result<Self, GlError> {
+    fn new(
+        ctx: &GlContext,
+        width: i32,
+        height: i32,
+        depth: Option<&Renderbuffer>,
+    ) -> Result<Self, GlError> {
         let gl = &ctx.gl;
         let radiosity = Renderbuffer::new(gl, glow::RGBA32F, width, height)?;
         let unshot = Renderbuffer::new(gl, glow::RGBA32F, width, height)?;
         let fbo = Framebuffer::new(gl)?;
         fbo.attach_renderbuffer(glow::COLOR_ATTACHMENT0, &radiosity);
         fbo.attach_renderbuffer(glow::COLOR_ATTACHMENT1, &unshot);
-        let marks = Renderbuffer::new(gl, glow::DEPTH_COMPONENT32F, width, height)?;
-        fbo.attach_renderbuffer(glow::DEPTH_ATTACHMENT, &marks);
+        if let Some(depth) = depth {
+            fbo.attach_renderbuffer(glow::DEPTH_ATTACHMENT, depth);
+        }
         fbo.check_complete(RECONSTRUCTION)?;
         Ok(Renderbuffers {
             fbo,
             _radiosity: radiosity,
             _unshot: unshot,
-            _marks: marks,
             width,
             height,
         })
@@ -160,57 +159,50 @@ pub struct ReconstructionPass {
     /// Per-patch position, normal and reflectance (the receivers' side of the form factor).
     patches: PatchData,
     planes: PolygonPlanes,
-    /// Which polygons can receive, and the blocks they cover.
-    receivers: Receivers,
-    /// The squares each pass draws over those blocks.
-    squares: Squares,
-    /// The squares the marking pass draws for each shooter, when it marks shooter by shooter
-    /// (`mark`).
-    marks: Squares,
-    /// With how many shooters the last `select_receivers` split the pass shooter by shooter
-    /// (`marks`, and the squares' runs after the first two), if it did.
-    by_shooter: Option<usize>,
+    /// Each polygon's lightmap rectangle [x0, y0, x1, y1) in the atlas.
+    texels: Vec<[u32; 4]>,
+    /// What each pass draws, and with which program.
+    draw: Box<dyn AtlasDraw>,
     /// The polygons the last pass drew (receivers and the shooter): the only ones whose unshot
     /// energy it can have changed.
     pub touched: Vec<usize>,
-    /// The sets of shooters (bits) whose blocks the last pass shaded with a program for just
-    /// them (`Tuning::few_shooter_programs`), in the order of their runs.
-    few: Vec<u8>,
-    /// Blocks shaded so far by a program for fewer shooters than the pass's, several of them
-    /// (`Tuning::few_shooter_programs`).
-    pub few_shooter_blocks: u64,
     /// Passes drawn with the programs unrolled for quadrilateral shooters so far.
     pub quad_passes: u32,
-    /// Passes drawn with the marking pass so far (`Tuning::marking_below` decides each).
-    pub marked_passes: u32,
-    /// The share of the patches the last shot lit (`observe`); none before the first readback.
-    lit: Option<lit_share::LitShare>,
-    /// Whether `observe` estimates it: only for the marking pass's rule (`Tuning::marking_below`).
-    watches_lit: bool,
 }
 
 impl ReconstructionPass {
     /// The side of the square blocks of texels the pass draws whole.
     pub const BLOCK: u32 = cover::BLOCK;
 
-    /// The pass for `scene` laid out as `layout`, serving up to `options.shooters_per_pass`
-    /// shooters a pass (and, with `Tuning::compile_choices`, only `options`' choices of form
-    /// factor, visibility kind and robust test).
-    pub fn new(
+    /// The paper's pass for `scene` laid out as `layout`: every patch drawn each pass with the
+    /// one program, for `options.shooters_per_pass` shooters a pass.
+    pub fn paper(
         ctx: &GlContext,
         scene: &Scene,
         layout: &PatchLayout,
         options: &SolveOptions,
     ) -> Result<Self, GlError> {
+        let draw = Box::new(WholeAtlas::new(&ctx.gl, layout)?);
+        Self::with_draw(ctx, scene, layout, options, ProgramVariants::PAPER, draw)
+    }
+
+    /// The pass for `scene` laid out as `layout`, serving up to `options.shooters_per_pass`
+    /// shooters a pass with the paper's program in `variants` (with `choices_compiled`, only
+    /// `options`' choices of form factor, visibility kind and robust test), drawn by `draw`.
+    pub(crate) fn with_draw(
+        ctx: &GlContext,
+        scene: &Scene,
+        layout: &PatchLayout,
+        options: &SolveOptions,
+        variants: ProgramVariants,
+        draw: Box<dyn AtlasDraw>,
+    ) -> Result<Self, GlError> {
         let gl = &ctx.gl;
         let (width, height) = (layout.atlas_width as i32, layout.atlas_height as i32);
         let planes = PolygonPlanes::new(ctx, scene)?;
-        let programs = Programs::new(ctx, options)?;
-        let receivers = Receivers::new(scene, layout);
-        let squares = Squares::new(gl, width, height)?;
-        let marks = Squares::new(gl, width, height)?;
+        let programs = Programs::new(ctx, options, variants)?;
         let patches = PatchData::new(gl, width, height)?;
-        let target = Renderbuffers::new(ctx, width, height)?;
+        let target = Renderbuffers::new(ctx, width, height, draw.depth())?;
         unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
         ctx.check(RECONSTRUCTION)?;
         Ok(ReconstructionPass {
@@ -218,18 +210,16 @@ impl ReconstructionPass {
             target,
             patches,
             planes,
-            receivers,
-            squares,
-            marks,
-            by_shooter: None,
+            texels: layout.texel_rects(),
+            draw,
             touched: Vec::new(),
-            few: Vec::new(),
-            few_shooter_blocks: 0,
             quad_passes: 0,
-            marked_passes: 0,
-            lit: None,
-            watches_lit: options.tuning.marking_pass && options.tuning.marking_below < 100,
         })
+    }
+
+    /// What each pass draws.
+    pub(crate) fn atlas_draw(&self) -> &dyn AtlasDraw {
+        &*self.draw
     }
 
     /// Rasterise every patch's geometry into the patch textures, then write each patch's emitted
@@ -240,113 +230,6 @@ impl ReconstructionPass {
         self.programs.emission.use_program();
         mesh.draw();
         ctx.check(INITIALISATION)
-    }
-
-    /// The receivers to draw for `shooters` (`Receivers::select`), covered by aligned squares of
-    /// whole 4×4 blocks, split by the shader that draws them; `touched` gets the receivers and
-    /// the shooters.
-    fn select_receivers(
-        &mut self,
-        shooters: &[Shooter],
-        tuning: &Tuning,
-        visibility: &VisibilityPass,
-    ) {
-        // Each shooter's receivers, if the walk found them for every one
-        // (`Tuning::walk_receivers`).
-        let seen: Option<Vec<&Reach>> = if tuning.walk_receivers {
-            (0..shooters.len())
-                .map(|k| visibility.receivers_seen(k))
-                .collect()
-        } else {
-            None
-        };
-        let seen = seen.as_deref();
-        self.receivers
-            .select(shooters, tuning, seen, &mut self.touched);
-        let (clipped, above) = Receivers::shaders(tuning);
-        let wide = self.receivers.blocks_wide();
-        let points = tuning.squares_as_points;
-        let flags = self.receivers.flags();
-        // Shooter by shooter where the walk found each one's reach (and this pass marks): each
-        // marks only the blocks it may reach, and the blocks that only one shooter may reach
-        // are shaded by it alone. Lost Empire's shots each reach a quarter of the atlas or less,
-        // eight of them most of it, and half the blocks they reach only one of them reaches.
-        self.by_shooter = match (self.receivers.shooter_bits(), tuning.marking_pass) {
-            (Some(_), true) if self.programs.one.is_some() => Some(shooters.len()),
-            _ => None,
-        };
-        // The pass proper's runs as bits of a mask per block: 0 and 1 the blocks to shade with
-        // the clipping shader and without; shooter by shooter, those only for the blocks several
-        // shooters reach, 2 + k those only shooter k reaches, and 2 + count + j those only the
-        // shooters of set `few[j]` reach (`Tuning::few_shooter_programs`).
-        self.few.clear();
-        let Some(count) = self.by_shooter else {
-            let runs: Vec<u32> = (flags.iter())
-                .map(|f| clipped(f) as u32 | (above(f) as u32) << 1)
-                .collect();
-            self.squares.build(&runs, wide, points, 2);
-            return;
-        };
-        let bits = self.receivers.shooter_bits().expect("checked above");
-        // The sets of shooters whose blocks the few-shooter programs shade, each with a run
-        // after the shooters' own (blocks that need no clipping stay with the pass's program,
-        // which has the variant for them).
-        self.few = self.few_shooter_sets(flags, bits, &clipped);
-        let mut set_of = [0u8; 256];
-        for (j, &set) in self.few.iter().enumerate() {
-            set_of[set as usize] = j as u8 + 1;
-        }
-        let runs: Vec<u32> = (flags.iter().zip(bits))
-            .map(|(f, &b)| match b.count_ones() {
-                0 => 0,
-                1 if *f != 0 => 1 << (2 + b.trailing_zeros()),
-                1 => 0,
-                _ => match set_of[b as usize] as usize {
-                    j if j > 0 && clipped(f) => 1 << (2 + count + j - 1),
-                    _ => clipped(f) as u32 | (above(f) as u32) << 1,
-                },
-            })
-            .collect();
-        self.few_shooter_blocks += (flags.iter().zip(bits))
-            .filter(|&(f, &b)| clipped(f) && set_of[b as usize] != 0)
-            .count() as u64;
-        // The marks' runs are the shooters' own bits.
-        let marks: Vec<u32> = bits.iter().map(|&b| b as u32).collect();
-        self.squares
-            .build(&runs, wide, points, 2 + count + self.few.len());
-        self.marks.build(&marks, wide, points, count);
-    }
-
-    /// The sets of shooters (bit k: shooter k of the pass) whose blocks a program for just them
-    /// shades (`Tuning::few_shooter_programs`): of the sets of two to `FEW` shooters that
-    /// alone reach some blocks to shade with clipping (`clipped`), those that save the most
-    /// shooter evaluations (blocks × shooters left out), as many as the cover's runs hold, none
-    /// that saves fewer than `MIN_SAVED`.
-    fn few_shooter_sets(
-        &self,
-        flags: &[u8],
-        bits: &[u8],
-        clipped: impl Fn(&u8) -> bool,
-    ) -> Vec<u8> {
-        let few = self.programs.few.len() as u32;
-        if few == 0 {
-            return Vec::new();
-        }
-        let slots = self.programs.shooters as u32;
-        let mut blocks = [0u32; 256];
-        for (f, &b) in flags.iter().zip(bits) {
-            if clipped(f) {
-                blocks[b as usize] += 1;
-            }
-        }
-        let mut sets: Vec<(u32, u8)> = (0..=255u8)
-            .filter(|b| (2..2 + few).contains(&b.count_ones()))
-            .map(|b| (blocks[b as usize] * (slots - b.count_ones()), b))
-            .filter(|&(saved, _)| saved >= MIN_SAVED)
-            .collect();
-        sets.sort_unstable_by(|a, b| b.cmp(a));
-        let room = RUNS - 2 - self.by_shooter.unwrap_or(0);
-        sets.iter().take(room).map(|&(_, b)| b).collect()
     }
 
     /// One reconstruction: for every patch drawn, its radiance and unshot radiance read from the
@@ -363,40 +246,26 @@ impl ReconstructionPass {
         options: &SolveOptions,
     ) -> Result<(), GlError> {
         self.refuse(shooters.len(), options)?;
-        let tuning = self.tuning_of_pass(options.tuning);
-        self.select_receivers(shooters, &tuning, visibility);
+        let every_texel = self.draw.select(shooters, visibility, &mut self.touched);
         let slots = self.with_idle_slots(shooters);
         // When every texel is recomputed from the textures this pass, nothing of the last pass
         // stays in the renderbuffers.
-        self.target.begin(ctx, tuning.writes_every_texel());
+        self.target.begin(ctx, every_texel);
         self.bind_textures(visibility, lightmaps, shooters.len());
-        self.begin_squares(ctx);
-        let uniforms = Uniforms::new(&slots, options, &self.planes);
-        // Shooter by shooter (`select_receivers`): each shooter's own uniforms, for its marks
-        // and for the blocks it alone reaches.
-        let each: Option<Vec<Uniforms>> = self.by_shooter.map(|_| {
-            (shooters.iter())
-                .map(|s| Uniforms::new(std::slice::from_ref(s), options, &self.planes))
-                .collect()
-        });
-        if tuning.marking_pass {
-            self.mark(ctx, &uniforms, each.as_deref(), visibility);
-        }
-        let quad = tuning.unroll_quads && slots.iter().all(|s| s.corner_count == 4);
+        let quad = self.programs.paper.has_quads() && slots.iter().all(|s| s.corner_count == 4);
         self.quad_passes += quad as u32;
-        let (clipping, not_clipping) = self.programs.for_slots.shading(tuning.marking_pass, quad);
-        let [clipped, above] = [self.squares.run(0), self.squares.run(1)];
-        for (p, (first, count)) in [(clipping, clipped), (not_clipping, above)] {
-            if count > 0 {
-                uniforms.set(p);
-                self.squares.draw(first, count);
-            }
-        }
-        if let Some(each) = &each {
-            self.shade_alone(each, shooters, visibility, tuning.unroll_quads);
-        }
-        self.shade_few(shooters, options, visibility, tuning.unroll_quads);
-        self.end_squares(ctx);
+        let uniforms = Uniforms::new(&slots, options, &self.planes);
+        let pass = Pass {
+            programs: &self.programs,
+            uniforms: &uniforms,
+            shooters,
+            options,
+            planes: &self.planes,
+            visibility,
+            quad,
+            size: (self.target.width, self.target.height),
+        };
+        self.draw.draw(ctx, &pass);
         ctx.check(RECONSTRUCTION)
     }
 
@@ -418,18 +287,6 @@ impl ReconstructionPass {
             )));
         }
         Ok(())
-    }
-
-    /// `tuning` for this pass: the marking pass only if the last shot lit little enough
-    /// (`Tuning::marking_below`), counted in `marked_passes`.
-    fn tuning_of_pass(&mut self, mut tuning: Tuning) -> Tuning {
-        let lit = self.lit_share();
-        tuning.marking_pass &= tuning.marks_after(lit);
-        if let Some(l) = &mut self.lit {
-            l.passed();
-        }
-        self.marked_passes += tuning.marking_pass as u32;
-        tuning
     }
 
     /// `shooters` and idle ones after them, one per slot of the programs. A pass with fewer
@@ -473,169 +330,16 @@ impl ReconstructionPass {
         self.patches.bind(position, normal, reflectance);
     }
 
-    /// Set the viewport and scissor for the squares (and points of any size, if drawn as
-    /// points).
-    fn begin_squares(&self, ctx: &GlContext) {
-        let gl = &ctx.gl;
-        unsafe {
-            let (w, h) = self.squares.viewport;
-            gl.viewport(0, 0, w, h);
-            gl.enable(glow::SCISSOR_TEST);
-            gl.scissor(0, 0, self.target.width, self.target.height);
-            if self.squares.as_points() {
-                gl.enable(glow::PROGRAM_POINT_SIZE);
-            }
-        }
-    }
-
-    /// The marking pass: depth 1 cleared, the squares' depth (½) written where a texel can
-    /// receive or shoots, nothing else; then depth test EQUAL without writing, so that the pass
-    /// proper shades those texels only.
-    ///
-    /// With the blocks each shooter may reach (`Tuning::walk_receivers`; `each`: each shooter's
-    /// uniforms), each shooter marks its own blocks with the one-shooter program, its item
-    /// buffer on the first shooter's unit: the same marks (a texel is marked if any shooter
-    /// marks it), for a visibility test per reached texel instead of one per shooter on every
-    /// drawn texel.
-    fn mark(
-        &self,
-        ctx: &GlContext,
-        uniforms: &Uniforms,
-        each: Option<&[Uniforms]>,
-        visibility: &VisibilityPass,
-    ) {
-        let gl = &ctx.gl;
-        unsafe {
-            gl.depth_mask(true);
-            gl.clear_depth_f64(1.0);
-            gl.clear(glow::DEPTH_BUFFER_BIT);
-            gl.enable(glow::DEPTH_TEST);
-            gl.depth_func(glow::ALWAYS);
-            gl.color_mask(false, false, false, false);
-        }
-        match (each, &self.programs.one) {
-            (Some(each), Some(one)) => {
-                for (k, own) in each.iter().enumerate() {
-                    let (first, count) = self.marks.run(k);
-                    if count == 0 {
-                        continue;
-                    }
-                    visibility.slot_texture(k).bind(UNITS.item_buffers[0]);
-                    own.set(&one.marking);
-                    self.marks.draw(first, count);
-                }
-                visibility.slot_texture(0).bind(UNITS.item_buffers[0]);
-            }
-            _ => {
-                uniforms.set(self.programs.for_slots.marking());
-                self.squares.draw_all();
-            }
-        }
-        unsafe {
-            gl.depth_func(glow::EQUAL);
-            gl.depth_mask(false);
-            gl.color_mask(true, true, true, true);
-        }
-    }
-
-    /// The pass proper over the blocks only one shooter may reach (`select_receivers`; `each`:
-    /// each shooter's uniforms), each by that shooter alone, with its item buffer on the first
-    /// shooter's unit: the same sums, bit for bit, since every other shooter adds exactly zero
-    /// there (`seen_receivers`).
-    fn shade_alone(
-        &self,
-        each: &[Uniforms],
-        shooters: &[Shooter],
-        visibility: &VisibilityPass,
-        unroll_quads: bool,
-    ) {
-        let Some(one) = &self.programs.one else {
-            return;
-        };
-        for (k, (own, shooter)) in each.iter().zip(shooters).enumerate() {
-            let (first, count) = self.squares.run(2 + k);
-            if count == 0 {
-                continue;
-            }
-            let quad = unroll_quads && shooter.corner_count == 4;
-            visibility.slot_texture(k).bind(UNITS.item_buffers[0]);
-            own.set(&one.marked[quad as usize]);
-            self.squares.draw(first, count);
-        }
-        visibility.slot_texture(0).bind(UNITS.item_buffers[0]);
-    }
-
-    /// The pass proper over the blocks each set of `self.few` (`select_receivers`) alone may
-    /// reach, by the program for that many shooters, given just those shooters' uniforms and
-    /// item buffers (in their order in the pass): the same sums, bit for bit, since every other
-    /// shooter adds exactly +0.0 there, as in `shade_alone`.
-    fn shade_few(
-        &self,
-        shooters: &[Shooter],
-        options: &SolveOptions,
-        visibility: &VisibilityPass,
-        unroll_quads: bool,
-    ) {
-        let base = 2 + self.by_shooter.unwrap_or(0);
-        for (j, &set) in self.few.iter().enumerate() {
-            let members: Vec<usize> = (0..shooters.len()).filter(|k| set >> k & 1 != 0).collect();
-            let programs = &self.programs.few[members.len() - 2];
-            let chosen: Vec<Shooter> = members.iter().map(|&k| shooters[k]).collect();
-            let quad = (unroll_quads && chosen.iter().all(|s| s.corner_count == 4)) as usize;
-            for (slot, &k) in members.iter().enumerate() {
-                visibility.slot_texture(k).bind(UNITS.item_buffers[slot]);
-            }
-            let (first, count) = self.squares.run(base + j);
-            if count > 0 {
-                Uniforms::new(&chosen, options, &self.planes).set(&programs.marked[quad]);
-                self.squares.draw(first, count);
-            }
-        }
-        // Each unit back to its own shooter's item buffer, as `bind_textures` left them.
-        if !self.few.is_empty() {
-            for (k, &unit) in UNITS.item_buffers[..self.programs.shooters]
-                .iter()
-                .enumerate()
-            {
-                let slot = if k < shooters.len() { k } else { 0 };
-                visibility.slot_texture(slot).bind(unit);
-            }
-        }
-    }
-
-    /// Undo `begin_squares` and `mark`'s state.
-    fn end_squares(&self, ctx: &GlContext) {
-        let gl = &ctx.gl;
-        unsafe {
-            gl.disable(glow::PROGRAM_POINT_SIZE);
-            gl.disable(glow::DEPTH_TEST);
-            gl.disable(glow::SCISSOR_TEST);
-            gl.active_texture(glow::TEXTURE0);
-        }
-    }
-
     /// The squares the last pass drew with the clipping shader and with the one that does not
     /// clip.
     pub fn squares_drawn(&self) -> (usize, usize) {
-        self.squares.drawn()
+        self.draw.squares().drawn()
     }
 
-    /// Take the unshot atlas read back after a shot (or, the first time, after the emission):
-    /// how much of it the shot lit decides whether the next pass marks first.
+    /// Take the unshot atlas read back after a shot (or, the first time, after the emission),
+    /// for the draw to watch (the engine's marking rule; the paper's does not look).
     pub fn observe(&mut self, unshot: &[f32]) {
-        if !self.watches_lit {
-            return;
-        }
-        match &mut self.lit {
-            Some(lit) => lit.observe(unshot),
-            None => self.lit = Some(lit_share::LitShare::new(unshot)),
-        }
-    }
-
-    /// The share of the patches each pass of the last shot lit at least, as `observe`
-    /// estimated it (`LitShare::per_pass`).
-    pub fn lit_share(&self) -> f32 {
-        self.lit.as_ref().map_or(0.0, |l| l.per_pass())
+        self.draw.observe(unshot);
     }
 
     /// The patch position atlas (RGBA: position, polygon ID + 1; `emit` rasterises it).
@@ -647,18 +351,18 @@ impl ReconstructionPass {
 
     /// How many texels the last pass's squares covered.
     pub fn texels_drawn(&self) -> usize {
-        self.squares.texels()
+        self.draw.squares().texels()
     }
 
     /// Whether the last pass drew its squares as points (`Tuning::squares_as_points`, where the
     /// driver's points are large enough) rather than as triangle pairs.
     pub fn drew_points(&self) -> bool {
-        self.squares.as_points()
+        self.draw.squares().as_points()
     }
 
     /// Each polygon's lightmap rectangle [x0, y0, x1, y1) in the atlas.
     pub fn texels(&self) -> &[[u32; 4]] {
-        self.receivers.texels()
+        &self.texels
     }
 
     /// Make the renderbuffers hold what `lightmaps` hold, after the textures were replaced from

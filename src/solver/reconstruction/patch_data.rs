@@ -10,16 +10,16 @@ use crate::solver::mesh::ATTRIBUTES;
 use crate::solver::pass_names::INITIALISATION;
 
 /// Each patch's geometry as atlas textures (RGBA32F): position + polygon ID + 1, normal, Kd.
-pub(super) struct PatchData {
+pub(crate) struct PatchData {
     program: Program,
-    pub(super) position: Texture,
+    pub(crate) position: Texture,
     normal: Texture,
     reflectance: Texture,
     fbo: Framebuffer,
 }
 
 impl PatchData {
-    pub(super) fn new(gl: &Gl, width: i32, height: i32) -> Result<Self, GlError> {
+    pub(crate) fn new(gl: &Gl, width: i32, height: i32) -> Result<Self, GlError> {
         let make = || Texture::new(gl, width, height, TextureFormat::Rgba32F, glow::NEAREST);
         let patches = PatchData {
             program: Program::new(
@@ -52,7 +52,7 @@ impl PatchData {
     }
 
     /// Rasterise every patch of `mesh` (the scene in the atlas) into the textures.
-    pub(super) fn rasterise(&self, ctx: &GlContext, mesh: &Mesh) -> Result<(), GlError> {
+    pub(crate) fn rasterise(&self, ctx: &GlContext, mesh: &Mesh) -> Result<(), GlError> {
         draw_flat(
             ctx,
             &self.fbo,
@@ -72,7 +72,7 @@ impl PatchData {
 
     /// Bind position, normal and reflectance to texture units `position`, `normal`,
     /// `reflectance`.
-    pub(super) fn bind(&self, position: u32, normal: u32, reflectance: u32) {
+    pub(crate) fn bind(&self, position: u32, normal: u32, reflectance: u32) {
         self.position.bind(position);
         self.normal.bind(normal);
         self.reflectance.bind(reflectance);
@@ -82,14 +82,14 @@ impl PatchData {
 /// Each polygon's plane (unit normal n, n·x of its points) as an RGBA32F texture, texel ID at
 /// (ID % width, ID / width): the robust visibility test asks whether the polygon a pixel shows
 /// lies between the shooter and the receiver.
-pub(super) struct PolygonPlanes {
-    pub(super) texture: Texture,
+pub(crate) struct PolygonPlanes {
+    pub(crate) texture: Texture,
     /// World units a point must lie beyond a plane to count as behind it (`Scene::plane_slack`).
-    pub(super) slack: f32,
+    pub(crate) slack: f32,
 }
 
 impl PolygonPlanes {
-    pub(super) fn new(ctx: &GlContext, scene: &Scene) -> Result<Self, GlError> {
+    pub(crate) fn new(ctx: &GlContext, scene: &Scene) -> Result<Self, GlError> {
         let n = scene.polygons.len().max(1);
         let largest = 1usize << (ctx.info.max_texture_size.max(1) as u32).ilog2();
         let width = n.next_power_of_two().min(largest);

@@ -1,6 +1,6 @@
-//! The reconstruction pass's programs: `glsl/reconstruct.frag` in its variants (the paper's one
-//! program, and the tuned ones of the marking pass), with the per-shooter functions the shader
-//! leaves to the host, and the emission shader of the initialisation.
+//! The reconstruction pass's programs: the paper's `glsl/reconstruct.frag` (and its variants
+//! with the solve's choices compiled in and for quadrilateral shooters), with the per-shooter
+//! functions the shader leaves to the host, and the emission shader of the initialisation.
 
 use crate::gl::program::Source;
 use crate::gl::{GlContext, GlError, Program};
@@ -9,39 +9,54 @@ use crate::solver::mesh::ATTRIBUTES;
 use crate::solver::{FormFactorKind, SolveOptions, VisibilityKind, MAX_SHOOTERS_PER_PASS};
 
 /// The two outputs: 0 = radiosity + ΔL, 1 = unshot + ΔL (zero for the texels that shoot).
-pub(super) const OUTPUTS: &[(u32, &str)] = &[(0, "NewRadiosity"), (1, "NewUnshot")];
+pub(crate) const OUTPUTS: &[(u32, &str)] = &[(0, "NewRadiosity"), (1, "NewUnshot")];
 
-/// The pass's programs: `glsl/reconstruct.frag` in its variants for one number of shooters per
-/// pass (`SHOOTERS`), and the emission shader.
-pub(super) struct Programs {
-    /// For `shooters` shooters a pass (`SolveOptions::shooters_per_pass`); a pass with fewer
-    /// pads the rest (`ReconstructionPass::run`).
-    pub for_slots: ShooterPrograms,
+/// The pass's programs: the paper's `glsl/reconstruct.frag` for one number of shooters per
+/// pass (`SHOOTERS`), and the emission shader. The llvmpipe engine compiles its own variants
+/// beside them (`solver::engine::marked_programs`).
+pub(crate) struct Programs {
+    /// The shader as the paper has it: visibility, form factor and GL_ADD in one program, for
+    /// `shooters` shooters a pass (`SolveOptions::shooters_per_pass`; a pass with fewer pads
+    /// the rest, `ReconstructionPass::run`).
+    pub paper: Variants,
+    /// How many shooters the programs serve.
     pub shooters: usize,
-    /// The choices compiled into `for_slots` (`Tuning::compile_choices`); none: read from
-    /// uniforms, so the programs serve any options.
+    /// The choices compiled into the programs ([`ProgramVariants::choices_compiled`]); none:
+    /// read from uniforms, so the programs serve any options.
     pub compiled: Option<Choices>,
-    /// The programs for one shooter, drawn for each shooter of a pass over the blocks only it
-    /// may reach (`Tuning::walk_receivers`, with several shooters a pass and the marking pass).
-    pub one: Option<OneShooter>,
-    /// The programs for two to [`FEW`] shooters, fewer than `shooters` (`few[k - 2]` for k),
-    /// drawn over the blocks that just those shooters of a pass may reach
-    /// (`Tuning::few_shooter_programs`); empty without.
-    pub few: Vec<FewShooters>,
     /// Writes each patch's emitted radiance (and its polygon ID in alpha) at initialisation.
     pub emission: Program,
 }
 
-/// A program for any corner count, and (`Tuning::unroll_quads`) its variant for quadrilateral
-/// shooters (`CORNERS` 4).
-pub(super) struct Variants {
+/// Which variants of the paper's program a pass compiles. The paper's: the one program, which
+/// reads the solve's choices from uniforms ([`ProgramVariants::PAPER`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ProgramVariants {
+    /// The solve's fixed choices (form factor, visibility kind, robust test) compiled in as
+    /// constants (`Tuning::compile_choices`); the programs then serve only those.
+    pub choices_compiled: bool,
+    /// A variant for quadrilateral shooters, whose loops unroll (`Tuning::unroll_quads`).
+    pub quads: bool,
+}
+
+impl ProgramVariants {
+    /// The paper's one program.
+    pub const PAPER: ProgramVariants = ProgramVariants {
+        choices_compiled: false,
+        quads: false,
+    };
+}
+
+/// A program for any corner count, and (`ProgramVariants::quads`) its variant for
+/// quadrilateral shooters (`CORNERS` 4).
+pub(crate) struct Variants {
     any: Program,
     quads: Option<Program>,
 }
 
 impl Variants {
     /// `source` compiled by `compile`, and for quadrilaterals too if `quads`.
-    fn new(
+    pub fn new(
         compile: &dyn Fn(Source) -> Result<Program, GlError>,
         source: &dyn Fn() -> Source,
         quads: bool,
@@ -57,85 +72,23 @@ impl Variants {
     }
 
     /// The one for quadrilaterals if `quad` and it was compiled, else the general one.
-    fn get(&self, quad: bool) -> &Program {
+    pub fn get(&self, quad: bool) -> &Program {
         match (&self.quads, quad) {
             (Some(q), true) => q,
             _ => &self.any,
         }
     }
-}
 
-/// `glsl/reconstruct.frag` compiled for one number of shooters.
-pub(super) struct ShooterPrograms {
-    /// The shader as the paper has it: visibility, form factor and GL_ADD in one program.
-    literal: Variants,
-    /// The marking pass's programs (`Tuning::marking_pass`; the paper's mode builds none).
-    marked: Option<MarkedPrograms>,
-}
-
-/// The programs of a pass with the marking pass (`Tuning::marking_pass`).
-struct MarkedPrograms {
-    /// The pass proper after a marking pass (`MARKED`: visibility already tested), clipping the
-    /// shooter to each receiver's tangent plane.
-    marked: Variants,
-    /// The same, compiled for receivers that have the whole shooter above that plane (no
-    /// clipping: a third fewer shader instructions on llvmpipe; see `glsl/reconstruct.frag`),
-    /// with `Tuning::skip_needless_clipping`.
-    above: Option<Variants>,
-    /// The marking pass (`MARK`): writes depth where a texel can receive, so that
-    /// the programs above shade only those texels' blocks.
-    marking: Program,
-}
-
-impl ShooterPrograms {
-    /// The programs that shade the squares needing the shooter clipped to the receiver's plane
-    /// and those that do not: after a marking pass (`marked`) the `MARKED` variants, otherwise
-    /// the paper's program for both; unrolled for quadrilateral shooters if `quad`.
-    pub fn shading(&self, marked: bool, quad: bool) -> (&Program, &Program) {
-        match (&self.marked, marked) {
-            (Some(m), true) => {
-                let above = m.above.as_ref().unwrap_or(&m.marked);
-                (m.marked.get(quad), above.get(quad))
-            }
-            _ => (self.literal.get(quad), self.literal.get(quad)),
-        }
+    /// Whether it has the variant for quadrilaterals.
+    pub fn has_quads(&self) -> bool {
+        self.quads.is_some()
     }
-
-    /// The marking pass's program (built with `Tuning::marking_pass`).
-    pub fn marking(&self) -> &Program {
-        let m = self.marked.as_ref();
-        &m.expect("the marking pass's programs are built with Tuning::marking_pass")
-            .marking
-    }
-}
-
-/// `glsl/reconstruct.frag` compiled for one shooter (`SHOOTERS` 1), for the blocks that only one
-/// shooter of a pass may reach (`Tuning::walk_receivers`).
-pub(super) struct OneShooter {
-    /// The marking pass (`MARK`).
-    pub marking: Program,
-    /// The pass proper after it (`MARKED`), for any corner count and for quadrilaterals.
-    pub marked: [Program; 2],
-}
-
-/// The most shooters a few-shooter program serves (`Tuning::few_shooter_programs`). On Lost
-/// Empire nine in ten of the blocks that several of a pass's eight shooters reach are reached by
-/// two to four; programs for more would save little, and llvmpipe compiles each variant when
-/// first drawn (about 0.13 s each without its shader cache).
-pub(super) const FEW: u32 = 4;
-
-/// `glsl/reconstruct.frag` compiled for a few shooters (`SHOOTERS` 2 to [`FEW`]), for the blocks
-/// that just those shooters of a pass may reach (`Tuning::few_shooter_programs`): the pass
-/// proper after the marking pass, clipping the shooters to each receiver's plane, for any corner
-/// count and for quadrilaterals.
-pub(super) struct FewShooters {
-    pub marked: [Program; 2],
 }
 
 /// A solve's fixed choices that `glsl/reconstruct.frag` branches on: the form factor, the
 /// visibility kind and the robust test (the shader's `FormFactorKind`, `HemiCube` and `Robust`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) struct Choices {
+pub(crate) struct Choices {
     polygon_form_factor: bool,
     hemicube: bool,
     robust: bool,
@@ -159,13 +112,33 @@ impl Choices {
     }
 }
 
+/// Compile `glsl/atlas.vert` (squares of texels) with the fragment `source` into a program
+/// writing the pass's two outputs.
+pub(crate) fn compile(gl: &crate::gl::Gl, source: Source) -> Result<Program, GlError> {
+    let squares_in = &[(0, "Corner"), (1, "Size")];
+    Program::new(gl, glsl!("atlas.vert"), source, squares_in, OUTPUTS)
+}
+
+/// `glsl/reconstruct.frag` for `shooters` shooters, with `compiled` choices as constants.
+pub(crate) fn fragment(shooters: u32, compiled: Option<Choices>) -> Source {
+    let source = glsl!("reconstruct.frag")
+        .define("SHOOTERS", shooters as i32)
+        .append(&per_shooter_functions(shooters as usize));
+    match &compiled {
+        Some(choices) => choices.define(source),
+        None => source,
+    }
+}
+
 impl Programs {
-    pub fn new(ctx: &GlContext, options: &SolveOptions) -> Result<Self, GlError> {
+    /// The programs for `options.shooters_per_pass` shooters, in `variants`.
+    pub fn new(
+        ctx: &GlContext,
+        options: &SolveOptions,
+        variants: ProgramVariants,
+    ) -> Result<Self, GlError> {
         let gl = &ctx.gl;
-        let squares_in = &[(0, "Corner"), (1, "Size")];
-        let compile =
-            |source: Source| Program::new(gl, glsl!("atlas.vert"), source, squares_in, OUTPUTS);
-        let compiled = options.tuning.compile_choices.then(|| Choices::of(options));
+        let compiled = variants.choices_compiled.then(|| Choices::of(options));
         let shooters = options.shooters_per_pass.max(1);
         // The shooters' texture units (`uniforms::UNITS`) are counted out for so many.
         if shooters > MAX_SHOOTERS_PER_PASS {
@@ -173,64 +146,12 @@ impl Programs {
                 "{shooters} shooters per reconstruction pass; at most {MAX_SHOOTERS_PER_PASS}"
             )));
         }
-        let frag_for = |shooters: u32| {
-            let source = glsl!("reconstruct.frag")
-                .define("SHOOTERS", shooters as i32)
-                .append(&per_shooter_functions(shooters as usize));
-            match &compiled {
-                Some(choices) => choices.define(source),
-                None => source,
-            }
-        };
-        let frag = || frag_for(shooters);
-        let marked = || frag().define("MARKED", 1);
-        let above = || marked().define("SHOOTER_ABOVE", 1);
-        let tuning = &options.tuning;
-        // Only the variants the tuning draws: the paper's mode compiles the one program.
-        let quads = tuning.unroll_quads;
-        let for_slots = ShooterPrograms {
-            literal: Variants::new(&compile, &frag, quads)?,
-            marked: if tuning.marking_pass {
-                Some(MarkedPrograms {
-                    marked: Variants::new(&compile, &marked, quads)?,
-                    above: if tuning.skip_needless_clipping {
-                        Some(Variants::new(&compile, &above, quads)?)
-                    } else {
-                        None
-                    },
-                    marking: compile(frag().define("MARK", 1))?,
-                })
-            } else {
-                None
-            },
-        };
-        let one = if tuning.walk_receivers && tuning.marking_pass && shooters > 1 {
-            let marked = || frag_for(1).define("MARKED", 1);
-            Some(OneShooter {
-                marking: compile(frag_for(1).define("MARK", 1))?,
-                marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
-            })
-        } else {
-            None
-        };
-        let few = if one.is_some() && tuning.few_shooter_programs {
-            (2..shooters.min(FEW + 1))
-                .map(|k| {
-                    let marked = || frag_for(k).define("MARKED", 1);
-                    Ok(FewShooters {
-                        marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
-                    })
-                })
-                .collect::<Result<_, GlError>>()?
-        } else {
-            Vec::new()
-        };
+        let compile = |source: Source| compile(gl, source);
+        let paper = || fragment(shooters, compiled);
         Ok(Programs {
-            for_slots,
+            paper: Variants::new(&compile, &paper, variants.quads)?,
             shooters: shooters as usize,
             compiled,
-            one,
-            few,
             emission: Program::new(
                 gl,
                 glsl!("lightmap.vert"),

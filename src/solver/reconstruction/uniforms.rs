@@ -7,7 +7,7 @@ use crate::gl::Program;
 use crate::solver::{FormFactorKind, Shooter, SolveOptions, VisibilityKind, MAX_SHOOTERS_PER_PASS};
 
 /// The texture unit of each texture `glsl/reconstruct.frag` samples (named after its sampler).
-pub(super) struct TextureUnits {
+pub(crate) struct TextureUnits {
     /// `HemiItemBuffer[k]`: shooter k's item buffer.
     pub item_buffers: [u32; MAX_SHOOTERS_PER_PASS as usize],
     /// `LightmapRadiosity`: the radiosity lightmap as the last copy left it.
@@ -24,7 +24,7 @@ pub(super) struct TextureUnits {
 
 /// The pass's texture units: shooter 0's item buffer on unit 0 (the paper's one), the lightmaps,
 /// planes and patch data on 1 to 6, the other shooters' item buffers on 7 and up.
-pub(super) const UNITS: TextureUnits = TextureUnits {
+pub(crate) const UNITS: TextureUnits = TextureUnits {
     item_buffers: [0, 7, 8, 9, 10, 11, 12, 13],
     lightmap_radiosity: 1,
     lightmap_unshot: 2,
@@ -36,7 +36,7 @@ pub(super) const UNITS: TextureUnits = TextureUnits {
 
 /// The uniforms of one pass, the shooters' as arrays of one element per shooter (the corners:
 /// `MAX_CORNERS` each), ready to be given to each program the pass draws with.
-pub(super) struct Uniforms<'a> {
+pub(crate) struct Uniforms<'a> {
     texels: Vec<i32>,
     remainders: Vec<f32>,
     hemi_res: Vec<i32>,

@@ -13,35 +13,26 @@
 //!   +--------+                 +-------+-------+-------+-------+-------+
 //! ```
 //!
-//! The paper draws the whole scene into each view. What this pass does besides, for llvmpipe's
-//! sake, is switched by [`Tuning`] (each switch documented there): what each view leaves out, in
-//! `culling` (views culled by bounding spheres, draws split by whether they need clipping,
-//! coplanar neighbours drawn as one plate (`plates`), the far faces of convex solids left out
-//! (`solids`), polygons between the pixel centres (`samples`)), and in the draw itself a guard
-//! band around each hemicube face, half side faces, float depth, and a glFlush at the end.
+//! What fills the item buffers is an [`ItemBufferFill`]: the paper's [`DrawnViews`] draw the whole
+//! scene into every view. The llvmpipe engine (`solver::engine`) has its own, which leaves out
+//! what cannot show or writes the item buffer on the CPU; this file does not know it. How the
+//! views are drawn ([`ViewSetup`]) is data: the depth format, the part of each face drawn, and
+//! the guard band around the faces (none in the paper).
 
-mod box_tree;
-pub mod culling;
-pub mod occlusion;
-pub mod plates;
-pub mod samples;
-pub mod seen_receivers;
-pub mod solids;
+mod fill;
+
+pub use fill::{DrawList, DrawnViews, Filled, ItemBufferFill, Shot, ViewDraw};
 
 use super::mesh::{SceneMesh, ATTRIBUTES};
 use super::pass_names::VISIBILITY;
-use super::{Shooter, Tuning, VisibilityKind};
+use super::{Shooter, VisibilityKind};
 use crate::gl::{
     Framebuffer, GlContext, GlError, IndexStream, Program, Renderbuffer, Texture, TextureFormat,
 };
 use crate::glsl;
 use crate::scene::Scene;
-use culling::{Culling, DrawList, Lists, Triangles, ViewDraw};
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
-use plates::Plates;
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
 
 /// The visibility pass (3.2.1): the scene drawn from a shooter into an item buffer of polygon
 /// IDs, which the reconstruction pass reads to tell whether a receiver is seen.
@@ -49,34 +40,76 @@ pub struct VisibilityPass {
     program: Program,
     /// Hemicube or hemispherical projection.
     pub kind: VisibilityKind,
-    /// The item buffers, one per shooter of a reconstruction pass (`with_slots`; one in the
+    /// The item buffers, one per shooter of a reconstruction pass (`with_fill`; one in the
     /// paper), each with its depth buffer and FBO.
     slots: Vec<ItemSlot>,
     resolution: i32,
-    /// The speed switches this pass reads (see [`Tuning`]).
-    tuning: Tuning,
-    /// Each hemicube face is drawn in a viewport `guard` times its size, centred on it
-    /// (`Tuning::guard_band`, made odd so that the face stays on whole pixels, and no wider than
-    /// the driver's viewport; 1 on the hemisphere).
+    /// Each hemicube face is drawn in a viewport `guard` times its size, centred on it (1: the
+    /// paper's; see [`ViewSetup::guard_band`]).
     guard: i32,
+    /// The part of each hemicube face drawn ([`FaceArea`]).
+    faces: FaceArea,
     near_far: [f32; 2],
     /// The part of the item buffer the last pass drew (width, height): all of it, or the
     /// lower-left corner for a shot at a smaller resolution (`Shooter::hemi_res`).
     drawn: (i32, i32),
-    /// Coplanar polygons drawn as one (`merge_plates`; at first every polygon alone).
-    plates: Plates,
-    /// What each view may leave out, and its buffers.
-    culling: Culling,
-    /// Whether the tuning asks for culling at all (`Culling::asked`); if not, every view draws
-    /// the whole scene.
-    culls: bool,
     /// The triangles the views of the last shot drew.
     stream: IndexStream,
-    /// The draw lists of `run_pass`, one per shooter of a pass, kept for the next.
-    pass_lists: Vec<Lists>,
-    /// Per slot, the polygons that may receive from its shot, when the walk wrote its item
-    /// buffer (`Tuning::walk_receivers`).
-    receivers: Vec<Option<seen_receivers::Reach>>,
+    /// What fills the item buffers.
+    fill: Box<dyn ItemBufferFill>,
+}
+
+/// How the views are drawn. The paper's: float depth, whole faces, no guard band
+/// ([`ViewSetup::PAPER`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ViewSetup {
+    /// The depth buffer's format.
+    pub depth: DepthFormat,
+    /// The part of each hemicube face drawn.
+    pub faces: FaceArea,
+    /// Each hemicube face drawn in a viewport this many times its size (odd; even ones round
+    /// down, and the driver's largest viewport may cap it), its frustum widened to match and
+    /// the scissor keeping its own pixels: llvmpipe then clips none of the triangles that
+    /// cross a face's edge (`Tuning::guard_band`). 1: none, as the paper.
+    pub guard_band: u32,
+}
+
+impl ViewSetup {
+    /// The paper's views.
+    pub const PAPER: ViewSetup = ViewSetup {
+        depth: DepthFormat::Float32,
+        faces: FaceArea::Whole,
+        guard_band: 1,
+    };
+}
+
+/// The item buffers' depth format (`Tuning::float_depth`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DepthFormat {
+    /// 32-bit float (GL 3.0): what every profile uses.
+    Float32,
+    /// 24-bit integers.
+    Int24,
+}
+
+/// The part of each hemicube face a shot draws (`Tuning::half_side_faces`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FaceArea {
+    /// Every pixel, as the paper.
+    Whole,
+    /// Only the pixels above the shooter's horizon, the ones the reconstruction pass looks up
+    /// ([`front_half`]).
+    AboveHorizon,
+}
+
+impl FaceArea {
+    /// The pixels of face `k` drawn (x, y, width, height within the face) at `r` pixels a side.
+    pub fn of(self, k: usize, r: i32) -> [i32; 4] {
+        match self {
+            FaceArea::Whole => [0, 0, r, r],
+            FaceArea::AboveHorizon => front_half(k, r),
+        }
+    }
 }
 
 /// One item buffer (RGBA8, ID + 1 in RGB, 0 = nothing seen) with its depth buffer and FBO.
@@ -91,15 +124,13 @@ impl ItemSlot {
         gl: &std::rc::Rc<glow::Context>,
         width: i32,
         height: i32,
-        float_depth: bool,
+        depth: DepthFormat,
     ) -> Result<Self, GlError> {
         // NEAREST: an ID must never be blended with its neighbour's.
         let item_buffer = Texture::new(gl, width, height, TextureFormat::Rgba8, glow::NEAREST)?;
-        // Float depth (GL 3.0) or 24-bit integers: `Tuning::float_depth`.
-        let depth_format = if float_depth {
-            glow::DEPTH_COMPONENT32F
-        } else {
-            glow::DEPTH_COMPONENT24
+        let depth_format = match depth {
+            DepthFormat::Float32 => glow::DEPTH_COMPONENT32F,
+            DepthFormat::Int24 => glow::DEPTH_COMPONENT24,
         };
         let depth = Renderbuffer::new(gl, depth_format, width, height)?;
         let fbo = Framebuffer::new(gl)?;
@@ -114,26 +145,6 @@ impl ItemSlot {
     }
 }
 
-/// Keep `receivers` in `kept` (reusing its allocation).
-fn keep(kept: &mut Option<seen_receivers::Reach>, receivers: Option<&seen_receivers::Reach>) {
-    match receivers {
-        Some(r) => kept.get_or_insert_with(Default::default).clone_from(r),
-        None => *kept = None,
-    }
-}
-
-/// Put the item buffer the walk wrote (`Tuning::walk_item_buffers`; RGBA8 `bytes` of the
-/// lower-left 5r × r pixels) into `slot`'s texture, where the views would have drawn it.
-fn write_item_buffer(
-    ctx: &GlContext,
-    slot: &ItemSlot,
-    r: i32,
-    bytes: &[u8],
-) -> Result<(), GlError> {
-    slot.item_buffer.upload_u8_region(5 * r, r, bytes);
-    ctx.check(VISIBILITY)
-}
-
 /// The pixels of hemicube face `k` (x, y, width, height within the face) that look above the
 /// shooter's horizon: all of the front face, half of each side face (see `face_rotations`:
 /// +x and -x put the shooter's normal at their left and right, +y and -y at their bottom).
@@ -146,9 +157,6 @@ pub fn front_half(k: usize, r: i32) -> [i32; 4] {
         _ => [0, 0, r, r],
     }
 }
-
-/// Threads that build a pass's draw lists besides the one that draws (`VisibilityPass::run_pass`).
-const BUILDERS: usize = 2;
 
 /// Hemicube faces as rotations of the shooter's eye space (which looks down -z): front, +x,
 /// -x, +y, -y. The reconstruction shader uses the same matrices to find a direction's pixel.
@@ -173,41 +181,54 @@ pub fn item_buffer_size(kind: VisibilityKind, res: u32) -> (u64, u64) {
     (faces * res as u64, res as u64)
 }
 
+/// The views' near and far planes for `scene`. Near: 1e-4 of the scene, so the shooter's own
+/// plane is clipped away but receivers a hair in front of it are kept. Far: beyond anything.
+pub fn near_far(scene: &Scene) -> [f32; 2] {
+    let size = scene.size();
+    [size * 1e-4, size * 2.0]
+}
+
+/// The guard band a pass of `kind` at `resolution` draws with when `wanted` (odd, at most what
+/// the driver's viewport holds; 1 on the hemisphere, which has no faces).
+pub fn guard_band(ctx: &GlContext, kind: VisibilityKind, resolution: u32, wanted: u32) -> i32 {
+    let mut dims = [0; 2];
+    unsafe {
+        ctx.gl
+            .get_parameter_i32_slice(glow::MAX_VIEWPORT_DIMS, &mut dims)
+    };
+    let fits = (dims[0].min(dims[1]) / (resolution as i32).max(1)).max(1);
+    let wanted = wanted.clamp(1, i32::MAX as u32) as i32;
+    match kind {
+        VisibilityKind::Hemicube => (fits.min(wanted) - 1) / 2 * 2 + 1,
+        VisibilityKind::Hemisphere => 1,
+    }
+}
+
 impl VisibilityPass {
-    /// A pass with one item buffer (the paper's: one shooter per pass).
-    pub fn new(
+    /// The paper's pass: one item buffer, every view drawing the whole scene.
+    pub fn paper(
         ctx: &GlContext,
         kind: VisibilityKind,
         resolution: u32,
-        tuning: Tuning,
         scene: &Scene,
     ) -> Result<Self, GlError> {
-        Self::with_slots(ctx, kind, resolution, tuning, scene, 1)
+        let fill = Box::new(DrawnViews);
+        Self::with_fill(ctx, kind, resolution, ViewSetup::PAPER, scene, 1, fill)
     }
 
     /// A pass with `slots` item buffers, one for each shooter of one reconstruction pass
-    /// (`SolveOptions::shooters_per_pass`; `run_in_slot`).
-    pub fn with_slots(
+    /// (`SolveOptions::shooters_per_pass`; `run_in_slot`), drawn as `setup` says, filled by
+    /// `fill`.
+    pub fn with_fill(
         ctx: &GlContext,
         kind: VisibilityKind,
         resolution: u32,
-        tuning: Tuning,
+        setup: ViewSetup,
         scene: &Scene,
         slots: u32,
+        fill: Box<dyn ItemBufferFill>,
     ) -> Result<Self, GlError> {
         let gl = &ctx.gl;
-        let scene_size = scene.size();
-        // Passes of several shooters walk every side (`Tuning::walk_up_to`): the reach the walk
-        // finds lets their reconstruction skip most of the atlas, which a drawn slot forfeits
-        // for the whole pass.
-        let tuning = if slots > 1 {
-            Tuning {
-                walk_up_to: 0,
-                ..tuning
-            }
-        } else {
-            tuning
-        };
         let vertex = match kind {
             VisibilityKind::Hemisphere => glsl!("hemiproj.vert"),
             VisibilityKind::Hemicube => glsl!("hemicube.vert"),
@@ -224,63 +245,36 @@ impl VisibilityPass {
         )?;
         let res = resolution as i32;
         let width = item_buffer_size(kind, resolution).0 as i32;
-        // NEAREST: an ID must never be blended with its neighbour's.
         let slots = (0..slots.max(1))
-            .map(|_| ItemSlot::new(gl, width, res, tuning.float_depth))
+            .map(|_| ItemSlot::new(gl, width, res, setup.depth))
             .collect::<Result<Vec<_>, GlError>>()?;
         unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
         ctx.check(VISIBILITY)?;
-        // Near plane: 1e-4 of the scene, so the shooter's own plane is clipped away but receivers
-        // a hair in front of it are kept. Far plane: beyond anything in the scene.
-        let near_far = [scene_size * 1e-4, scene_size * 2.0];
-        let mut dims = [0; 2];
-        unsafe { gl.get_parameter_i32_slice(glow::MAX_VIEWPORT_DIMS, &mut dims) };
-        let fits = (dims[0].min(dims[1]) / res.max(1)).max(1);
-        let wanted = tuning.guard_band.clamp(1, i32::MAX as u32) as i32;
-        let guard = if kind == VisibilityKind::Hemicube {
-            (fits.min(wanted) - 1) / 2 * 2 + 1
-        } else {
-            1
-        };
         Ok(VisibilityPass {
             program,
             kind,
-            receivers: vec![None; slots.len()],
             slots,
             resolution: res,
-            tuning,
-            guard,
-            near_far,
+            guard: guard_band(ctx, kind, resolution, setup.guard_band),
+            faces: setup.faces,
+            near_far: near_far(scene),
             drawn: (width, res),
-            plates: Plates::none(scene.polygons.len()),
-            culling: Culling::new(scene, kind, tuning, near_far, guard),
-            culls: Culling::asked(&tuning, kind),
             stream: IndexStream::new(gl)?,
-            pass_lists: Vec::new(),
+            fill,
         })
     }
 
-    /// Merge coplanar polygons outside the solids into plates (`Tuning::plates`; hemicube only:
-    /// the hemispherical projection needs small polygons, and bigger ones would curve more). The
-    /// caller then draws a mesh made by `Plates::vertex_data` from the plates returned; the item
-    /// buffer shows each plate under its representative's ID. Only for the robust visibility
-    /// test, which reads the shown polygon's plane, not its ID alone. With the switch off every
-    /// polygon stays alone, and `Plates::vertex_data` gives the scene's own mesh.
-    pub fn merge_plates(&mut self, scene: &Scene) -> &Plates {
-        if self.kind == VisibilityKind::Hemicube && self.tuning.plates {
-            let solids = &self.culling.solids;
-            self.plates = Plates::find(scene, |p| solids.solid_of[p].is_none());
-            self.culling.use_plates(scene, &self.plates);
-        }
-        &self.plates
+    /// What fills this pass's item buffers.
+    pub fn fill(&self) -> &dyn ItemBufferFill {
+        &*self.fill
     }
 
-    /// The polygon whose ID the item buffer shows where polygon `p` is seen.
-    pub fn shown_as(&self, p: usize) -> usize {
-        self.plates.representative[p]
+    /// What fills this pass's item buffers, to change.
+    pub fn fill_mut(&mut self) -> &mut dyn ItemBufferFill {
+        &mut *self.fill
     }
 
-    /// Draw the item buffer from `shooter` into the first slot, the paper's one (`run_in_slot`).
+    /// Fill the item buffer from `shooter` into the first slot, the paper's one (`run_in_slot`).
     pub fn run(
         &mut self,
         ctx: &GlContext,
@@ -290,9 +284,8 @@ impl VisibilityPass {
         self.run_in_slot(ctx, mesh, shooter, 0)
     }
 
-    /// `run` into item buffer `slot` (`with_slots`; `slot_texture`): the paper's "render the
-    /// scene from the shooter", polygon IDs as colours, each view drawing what culling left
-    /// (`culling`; the whole scene with `Tuning::none`).
+    /// `run` into item buffer `slot` (`with_fill`; `slot_texture`): the paper's "render the
+    /// scene from the shooter", polygon IDs as colours.
     pub fn run_in_slot(
         &mut self,
         ctx: &GlContext,
@@ -300,180 +293,114 @@ impl VisibilityPass {
         shooter: &Shooter,
         slot: usize,
     ) -> Result<(), GlError> {
-        if slot >= self.slots.len() {
-            return Err(GlError::Limit(format!(
-                "item-buffer slot {slot} of a pass set up for {}",
-                self.slots.len()
-            )));
+        self.check_slots(slot + 1)?;
+        let shot = self.shot(shooter);
+        let mut fill = self.take_fill();
+        let filled = fill.shot(mesh, &shot, slot);
+        let drawn = matches!(filled, Filled::Drawn { .. });
+        let put = self.put(ctx, mesh, &shot, slot, filled);
+        if drawn && put.is_ok() {
+            fill.after_draw(ctx);
         }
-        let view = shooter.view();
-        let r = self.resolution_of(shooter);
-        let views = self.upload_draw_list(mesh, shooter, view, r);
-        keep(&mut self.receivers[slot], self.culling.receivers());
-        if let Some(bytes) = self.culling.written_item_buffer() {
-            write_item_buffer(ctx, &self.slots[slot], r, bytes)?;
-            self.drawn = (5 * r, r);
-            return Ok(());
-        }
-        let id = self.shown_as(shooter.polygon) as f32;
-        self.draw(ctx, mesh, slot, id, view, r, views)
-    }
-
-    /// This shot's resolution (`SolveOptions::small_hemi_res`): the views fill the item
-    /// buffer's lower-left corner, and the reconstruction pass looks up only that.
-    fn resolution_of(&self, shooter: &Shooter) -> i32 {
-        (shooter.hemi_res as i32).clamp(1, self.resolution)
-    }
-
-    /// Draw the views (`views`, in the uploaded draw list) from a shooter shown as `id`, with
-    /// view matrix `view`, at `r` pixels per side, into slot `slot`.
-    #[allow(clippy::too_many_arguments)]
-    fn draw(
-        &mut self,
-        ctx: &GlContext,
-        mesh: &SceneMesh,
-        slot: usize,
-        id: f32,
-        view: Mat4,
-        r: i32,
-        views: [ViewDraw; 5],
-    ) -> Result<(), GlError> {
-        self.clear_slot(ctx, slot, r);
-        self.program.use_program();
-        // The shooter's plate lies in the shooter's plane, which the near plane clips away;
-        // the shaders put it beyond the far plane.
-        self.program.set_f32("ShooterId", id);
-        self.program.set_mat4("ShooterView", &view.to_cols_array());
-        match self.kind {
-            VisibilityKind::Hemisphere => self.draw_hemisphere(mesh, views[0]),
-            VisibilityKind::Hemicube => self.draw_hemicube(ctx, mesh, &views, view, r),
-        }
-        self.finish(ctx)
+        self.fill = fill;
+        put
     }
 
     /// The visibility passes of one reconstruction pass: `shooters[k]` into slot k, as
-    /// `run_in_slot` draws them one by one, but the next shots' draw lists are built on two
-    /// other threads (`BUILDERS`) while this one's draws are issued, and this one builds the
-    /// next unclaimed list itself whenever the one it must draw next is not ready. On llvmpipe
-    /// the thread that issues the draws also transforms and sets up every triangle, and is the
-    /// one the visibility pass waits for; building the lists (`Culling::build`) was a sixth of
-    /// its time on Lost Empire, and more than drawing them once hidden polygons were left out;
-    /// waiting for the builders left it idle a third of the pass (docs/perf-log.md). The same
-    /// lists, so the same item buffers.
+    /// `run_in_slot` fills them one by one (a fill may prepare the next while one is drawn).
     pub fn run_pass(
         &mut self,
         ctx: &GlContext,
         mesh: &SceneMesh,
         shooters: &[Shooter],
     ) -> Result<(), GlError> {
-        if !self.culls || shooters.len() < 2 || shooters.len() > self.slots.len() {
-            for (slot, shooter) in shooters.iter().enumerate() {
-                self.run_in_slot(ctx, mesh, shooter, slot)?;
-            }
-            return Ok(());
-        }
-        let shots: Vec<(Mat4, i32, f32)> = (shooters.iter())
-            .map(|s| {
-                (
-                    s.view(),
-                    self.resolution_of(s),
-                    self.shown_as(s.polygon) as f32,
-                )
-            })
-            .collect();
-        let culling = self.culling.take();
-        let plates = std::mem::take(&mut self.plates);
-        let mut lists = std::mem::take(&mut self.pass_lists);
-        lists.resize_with(shooters.len(), Lists::default);
-        let triangles = Triangles::of(mesh);
-        // Each shot's list in a cell of its own; the next shot without a list is claimed by
-        // whichever thread is free first: the builders, or this one when the list it must draw
-        // next is not ready (waiting for a builder left it idle a third of the pass).
-        let cells: Vec<Mutex<Lists>> = lists.into_iter().map(Mutex::new).collect();
-        let unclaimed = AtomicUsize::new(0);
-        let claim = || {
-            let k = unclaimed.fetch_add(1, Ordering::Relaxed);
-            (k < cells.len()).then(|| {
-                let mut built = cells[k].lock().expect("a builder does not panic");
-                let (view, r, _) = shots[k];
-                culling.build(&mut built, triangles, &shooters[k], view, &plates, r);
-                k
-            })
-        };
-        let drawn = std::thread::scope(|scope| {
-            let (done, arrivals) = std::sync::mpsc::channel();
-            for _ in 0..BUILDERS {
-                let done = done.clone();
-                scope.spawn(move || {
-                    while let Some(k) = claim() {
-                        if done.send(k).is_err() {
-                            break;
-                        }
-                    }
-                });
-            }
-            drop(done);
-            let mut ready = vec![false; shots.len()];
-            let mut drawn = Ok(());
-            for (slot, &(view, r, id)) in shots.iter().enumerate() {
-                while !ready[slot] {
-                    let k = match arrivals.try_recv() {
-                        Ok(k) => k,
-                        Err(_) => match claim() {
-                            Some(k) => k,
-                            None => arrivals.recv().expect("the builders send every list"),
-                        },
-                    };
-                    ready[k] = true;
-                }
-                let built = cells[slot].lock().expect("a builder does not panic");
-                keep(&mut self.receivers[slot], built.receivers());
-                if let Some(bytes) = built.written_item_buffer() {
-                    drawn = write_item_buffer(ctx, &self.slots[slot], r, bytes);
-                    self.drawn = (5 * r, r);
-                } else {
-                    let list = built.draw_list();
-                    self.stream.upload(list.indices);
-                    drawn = self.draw(ctx, mesh, slot, id, view, r, list.views);
-                }
-                if drawn.is_err() {
-                    // No more claims: the builders finish what they hold and stop.
-                    unclaimed.store(shots.len(), Ordering::Relaxed);
-                    break;
-                }
-            }
-            drawn
+        self.check_slots(shooters.len())?;
+        let shots: Vec<Shot> = shooters.iter().map(|s| self.shot(s)).collect();
+        let mut fill = self.take_fill();
+        let done = fill.pass(ctx, mesh, &shots, &mut |slot, filled| {
+            self.put(ctx, mesh, &shots[slot], slot, filled)
         });
-        let mut lists: Vec<Lists> = (cells.into_iter())
-            .map(|c| c.into_inner().expect("a builder does not panic"))
-            .collect();
-        self.culling = culling;
-        for l in &mut lists {
-            self.culling.missed += std::mem::take(&mut l.missed);
-            self.culling.hidden += std::mem::take(&mut l.hidden);
-        }
-        self.plates = plates;
-        self.pass_lists = lists;
-        drawn
+        self.fill = fill;
+        done
     }
 
-    /// Upload the triangles each view draws from `shooter` (view matrix `view`, `r` pixels per
-    /// side): what culling leaves if the tuning asks for it, else the whole scene; where each
-    /// view's triangles are in the upload.
-    fn upload_draw_list(
+    /// Refuse more shots than the pass has item buffers.
+    fn check_slots(&self, shots: usize) -> Result<(), GlError> {
+        if shots > self.slots.len() {
+            return Err(GlError::Limit(format!(
+                "item-buffer slot {} of a pass set up for {}",
+                shots - 1,
+                self.slots.len()
+            )));
+        }
+        Ok(())
+    }
+
+    /// The fill, out of the pass while it runs (so that it can hand its results to `put`).
+    fn take_fill(&mut self) -> Box<dyn ItemBufferFill> {
+        std::mem::replace(&mut self.fill, Box::new(DrawnViews))
+    }
+
+    /// `shooter`'s shot: its view and this shot's resolution (`SolveOptions::small_hemi_res`:
+    /// the views fill the item buffer's lower-left corner, and the reconstruction pass looks up
+    /// only that).
+    fn shot<'a>(&self, shooter: &'a Shooter) -> Shot<'a> {
+        Shot {
+            shooter,
+            view: shooter.view(),
+            r: (shooter.hemi_res as i32).clamp(1, self.resolution),
+        }
+    }
+
+    /// Put what the fill gave for `shot` into slot `slot`: draw its views, or upload the item
+    /// buffer it wrote (RGBA8 bytes of the lower-left 5r × r pixels).
+    fn put(
         &mut self,
+        ctx: &GlContext,
         mesh: &SceneMesh,
-        shooter: &Shooter,
-        view: Mat4,
-        r: i32,
-    ) -> [ViewDraw; 5] {
-        let list = if self.culls {
-            self.culling.draw_list(mesh, shooter, view, &self.plates, r)
-        } else {
-            DrawList::whole(&mesh.triangles)
-        };
-        self.stream.upload(list.indices);
-        list.views
+        shot: &Shot,
+        slot: usize,
+        filled: Filled<'_>,
+    ) -> Result<(), GlError> {
+        let r = shot.r;
+        match filled {
+            Filled::Written(bytes) => {
+                self.slots[slot]
+                    .item_buffer
+                    .upload_u8_region(5 * r, r, bytes);
+                self.drawn = (5 * r, r);
+                ctx.check(VISIBILITY)
+            }
+            Filled::Drawn { list, shooter_id } => {
+                self.stream.upload(list.indices);
+                self.draw(ctx, mesh, slot, shooter_id as f32, shot, list.views)
+            }
+        }
+    }
+
+    /// Draw the views (`views`, in the uploaded draw list) of `shot`, its shooter's polygon
+    /// shown as `id`, into slot `slot`.
+    fn draw(
+        &mut self,
+        ctx: &GlContext,
+        mesh: &SceneMesh,
+        slot: usize,
+        id: f32,
+        shot: &Shot,
+        views: [ViewDraw; 5],
+    ) -> Result<(), GlError> {
+        self.clear_slot(ctx, slot, shot.r);
+        self.program.use_program();
+        // The shooter's polygon lies in the shooter's plane, which the near plane clips away;
+        // the shaders put it beyond the far plane.
+        self.program.set_f32("ShooterId", id);
+        self.program
+            .set_mat4("ShooterView", &shot.view.to_cols_array());
+        match self.kind {
+            VisibilityKind::Hemisphere => self.draw_hemisphere(mesh, views[0]),
+            VisibilityKind::Hemicube => self.draw_hemicube(ctx, mesh, &views, shot),
+        }
+        self.finish(ctx)
     }
 
     /// Bind slot `slot`'s FBO for a depth-tested draw of IDs and clear the part a shot at `r`
@@ -510,39 +437,27 @@ impl VisibilityPass {
         mesh.mesh.draw_indexed(&self.stream, draw.first, count);
     }
 
-    /// The hemicube: five 90° perspective views of `view` side by side, `r` pixels each, each
-    /// in its guard band, the side faces only above the horizon (`Tuning::half_side_faces`).
-    fn draw_hemicube(
-        &self,
-        ctx: &GlContext,
-        mesh: &SceneMesh,
-        draws: &[ViewDraw; 5],
-        view: Mat4,
-        r: i32,
-    ) {
+    /// The hemicube: five 90° perspective views of the shot side by side, `r` pixels each, each
+    /// in its guard band (none in the paper), each drawing the part `faces` says.
+    fn draw_hemicube(&self, ctx: &GlContext, mesh: &SceneMesh, draws: &[ViewDraw; 5], shot: &Shot) {
         let gl = &ctx.gl;
         let [n, f] = self.near_far;
-        let g = self.guard;
+        let (g, r) = (self.guard, shot.r);
         let widen = Mat4::from_scale(Vec3::new(1.0 / g as f32, 1.0 / g as f32, 1.0));
         let projection = widen * Mat4::perspective_rh_gl(std::f32::consts::FRAC_PI_2, 1.0, n, f);
         let margin = (g - 1) / 2 * r;
         unsafe { gl.enable(glow::SCISSOR_TEST) };
         for (k, rotation) in face_rotations().iter().enumerate() {
             let x = k as i32 * r;
+            let [sx, sy, sw, sh] = self.faces.of(k, r);
             unsafe {
                 gl.viewport(x - margin, -margin, g * r, g * r);
-                let [sx, sy, sw, sh] = if self.tuning.half_side_faces {
-                    front_half(k, r)
-                } else {
-                    [0, 0, r, r]
-                };
                 gl.scissor(x + sx, sy, sw, sh);
             }
-            let m = projection * Mat4::from_mat3(*rotation) * view;
+            let m = projection * Mat4::from_mat3(*rotation) * shot.view;
             self.program
                 .set_mat4("FaceViewProjection", &m.to_cols_array());
-            // Two draws (`split_unclipped`): llvmpipe takes its fast path for a draw with
-            // nothing to clip.
+            // A view's list comes in two parts (`ViewDraw`), drawn one after the other.
             let d = draws[k];
             for (first, count) in [(d.first, d.unclipped), (d.first + d.unclipped, d.clipped)] {
                 if count > 0 {
@@ -553,44 +468,14 @@ impl VisibilityPass {
         unsafe { gl.disable(glow::SCISSOR_TEST) };
     }
 
-    /// Leave the FBO, and (`Tuning::flush_visibility`) have the pass rasterised now:
-    /// llvmpipe queues it and returns, so the CPU picks the receivers meanwhile.
+    /// Leave the FBO.
     fn finish(&self, ctx: &GlContext) -> Result<(), GlError> {
         let gl = &ctx.gl;
         unsafe {
             gl.disable(glow::DEPTH_TEST);
             gl.bind_framebuffer(glow::FRAMEBUFFER, None);
-            if self.tuning.flush_visibility {
-                gl.flush();
-            }
         }
         ctx.check(VISIBILITY)
-    }
-
-    /// How many times a view left a polygon out as falling between the pixel centres, over all
-    /// passes (`Tuning::cull_between_samples`).
-    pub fn missed(&self) -> u64 {
-        self.culling.missed
-    }
-
-    /// How many polygons in front of a shooter were left out as hidden, over all passes
-    /// (`Tuning::cull_hidden`), where the views were drawn: a walk that writes the item buffer
-    /// (`Tuning::walk_item_buffers`) does not list the polygons in front of the shooter, so it
-    /// counts none.
-    pub fn hidden(&self) -> u64 {
-        self.culling.hidden
-    }
-
-    /// Find the receivers of every shot whose item buffer the walk writes from now on
-    /// (`Tuning::walk_receivers`; `receivers_seen`).
-    pub fn use_seen_receivers(&mut self, seen: seen_receivers::SeenReceivers) {
-        self.culling.use_seen_receivers(seen);
-    }
-
-    /// What the last shot in slot `slot` may reach, when the walk wrote its item buffer and
-    /// `use_seen_receivers` set up the test (`Tuning::walk_receivers`); `None` if not known.
-    pub fn receivers_seen(&self, slot: usize) -> Option<&seen_receivers::Reach> {
-        self.receivers.get(slot)?.as_ref()
     }
 
     /// The item buffer of slot `slot` (`run_in_slot`).
@@ -601,6 +486,11 @@ impl VisibilityPass {
     /// The item buffer of the first slot: the paper's one.
     pub fn item_buffer(&self) -> &Texture {
         self.slot_texture(0)
+    }
+
+    /// How many item buffers the pass has.
+    pub fn slots(&self) -> usize {
+        self.slots.len()
     }
 
     /// The part of the item buffer the last pass drew (width, height), from its lower-left

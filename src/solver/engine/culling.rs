@@ -14,47 +14,12 @@ use super::plates::Plates;
 use super::samples::{self, Outlines};
 use super::seen_receivers::{self, Reach, SeenReceivers};
 use super::solids::Solids;
-use super::{face_rotations, Shooter, Tuning, VisibilityKind};
 use crate::geometry::{mean, sphere_around, Plane};
 use crate::scene::Scene;
 use crate::solver::mesh::SceneMesh;
+use crate::solver::visibility::{face_rotations, front_half, DrawList, ViewDraw};
+use crate::solver::{Shooter, Tuning, VisibilityKind};
 use glam::{Mat3, Mat4, Vec3};
-
-/// One view's part of a [`DrawList`]: from index `first`, `unclipped` indices of triangles
-/// wholly inside the guarded frustum (llvmpipe's fast path), then `clipped` of the others.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ViewDraw {
-    /// The view's first index in [`DrawList::indices`].
-    pub first: usize,
-    /// How many indices, from `first`, need no clipping.
-    pub unclipped: usize,
-    /// How many indices follow those, which may need clipping.
-    pub clipped: usize,
-}
-
-/// The triangles (vertex indices of the [`SceneMesh`]) each view of one shot draws: views one
-/// after another in `indices`, each view's part in `views` (the hemisphere uses the first).
-pub struct DrawList<'a> {
-    /// The triangles' corners.
-    pub indices: &'a [u32],
-    /// Where each view's triangles are in `indices`.
-    pub views: [ViewDraw; 5],
-}
-
-impl<'a> DrawList<'a> {
-    /// Every view draws all of `triangles` (the scene's, in its order), as the paper does.
-    pub fn whole(triangles: &'a [u32]) -> Self {
-        let all = ViewDraw {
-            first: 0,
-            unclipped: 0,
-            clipped: triangles.len(),
-        };
-        DrawList {
-            indices: triangles,
-            views: [all; 5],
-        }
-    }
-}
 
 /// The culling of one visibility pass: what it knows of the scene, and its buffers (reused from
 /// shot to shot).
@@ -243,7 +208,7 @@ impl Culling {
         tuning: &Tuning,
         plates: &Plates,
     ) -> Occluders {
-        if tuning.cull_hidden && kind == VisibilityKind::Hemicube {
+        if tuning.cull_hidden() && kind == VisibilityKind::Hemicube {
             Occluders::new(scene, plates)
         } else {
             Occluders::default()
@@ -272,6 +237,11 @@ impl Culling {
     /// ([`Lists::written_item_buffer`]).
     pub fn written_item_buffer(&self) -> Option<&[u8]> {
         self.lists.written_item_buffer()
+    }
+
+    /// The draw list `draw_list` built last.
+    pub fn last_list(&self) -> DrawList<'_> {
+        self.lists.draw_list()
     }
 
     /// The receivers of the last `draw_list` ([`Lists::receivers`]).
@@ -348,7 +318,7 @@ impl Culling {
                 r,
                 drawn: std::array::from_fn(|k| {
                     let rect = if self.tuning.half_side_faces {
-                        super::front_half(k, r as i32)
+                        front_half(k, r as i32)
                     } else {
                         [0, 0, r as i32, r as i32]
                     };

@@ -379,7 +379,7 @@ impl Views {
 
     /// The box around the box (lower corner `lo`, upper `hi`) in eye space.
     fn eye_box(&self, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
-        debug_assert_eq!(self.rotations, super::face_rotations());
+        debug_assert_eq!(self.rotations, crate::solver::visibility::face_rotations());
         let rotation = Mat3::from_mat4(self.view);
         let centre = self.view.transform_point3(0.5 * (lo + hi));
         let half = abs(&rotation) * (0.5 * (hi - lo));

@@ -4,11 +4,11 @@
 //! whole of their lightmap rectangles), with which shader: the CPU half of the reconstruction
 //! pass, run before each draw.
 
-use super::cover::BLOCK;
+use super::seen_receivers::Reach;
 use crate::geometry::sphere_around;
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
-use crate::solver::visibility::seen_receivers::Reach;
+use crate::solver::reconstruction::{patch_blocks, BLOCK};
 use crate::solver::{Shooter, Tuning};
 use glam::Vec3;
 
@@ -28,7 +28,7 @@ enum Reception {
 }
 
 /// The polygons' shapes as the receiver test needs them, and the block flags of the last pass.
-pub(super) struct Receivers {
+pub(crate) struct Receivers {
     /// Each polygon's vertices (`outlines[starts[i]..starts[i + 1]]`) and normal.
     outlines: Vec<Vec3>,
     starts: Vec<usize>,
@@ -39,8 +39,6 @@ pub(super) struct Receivers {
     slack: f32,
     /// The polygons that have patches (the others have no lightmap texels to draw).
     with_patches: Vec<usize>,
-    /// Lightmap rectangles [x0, y0, x1, y1), per polygon.
-    texels: Vec<[u32; 4]>,
     /// The blocks that hold patches of polygon p: `blocks[block_starts[p]..block_starts[p + 1]]`
     /// (ascending). A merged polygon's rectangle holds many texels outside its outline, whole
     /// blocks of them on a voxel world's concave walls (Lost Empire: 10,363 blocks in the
@@ -62,9 +60,8 @@ pub(super) struct Receivers {
 }
 
 impl Receivers {
-    pub(super) fn new(scene: &Scene, layout: &PatchLayout) -> Self {
-        let texels = layout.texel_rects();
-        let with_patches: Vec<usize> = (0..texels.len())
+    pub(crate) fn new(scene: &Scene, layout: &PatchLayout) -> Self {
+        let with_patches: Vec<usize> = (0..layout.patches_per_polygon.len())
             .filter(|&p| layout.patches_per_polygon[p] > 0)
             .collect();
         let blocks_wide = layout.atlas_width.div_ceil(BLOCK) as usize;
@@ -83,7 +80,6 @@ impl Receivers {
             bounds: scene.polygons.iter().map(|p| p.bounding_sphere()).collect(),
             slack: scene.plane_slack(),
             with_patches,
-            texels,
             blocks: blocks_of,
             block_starts,
             flags: vec![0; blocks],
@@ -95,33 +91,28 @@ impl Receivers {
         }
     }
 
-    /// Each polygon's lightmap rectangle [x0, y0, x1, y1) in the atlas.
-    pub(super) fn texels(&self) -> &[[u32; 4]] {
-        &self.texels
-    }
-
     /// The block flags of the last `select` (rows of `blocks_wide()` blocks).
-    pub(super) fn flags(&self) -> &[u8] {
+    pub(crate) fn flags(&self) -> &[u8] {
         &self.flags
     }
 
     /// Which shooters of the last `select` may send each block something or shoot from it
     /// (bit k: shooter k), if it was given their reach (`Tuning::walk_receivers`).
-    pub(super) fn shooter_bits(&self) -> Option<&[u8]> {
+    pub(crate) fn shooter_bits(&self) -> Option<&[u8]> {
         self.bits_known.then_some(&self.shooter_bits[..])
     }
 
-    pub(super) fn blocks_wide(&self) -> usize {
+    pub(crate) fn blocks_wide(&self) -> usize {
         self.blocks_wide
     }
 
     /// Flag the blocks a pass for `shooters` must draw: the shooting texels, and the blocks
     /// that can receive from any of them: those `seen` lists for some shooter when given
     /// (`Tuning::walk_receivers`), else the lightmaps of every polygon with patches (only those
-    /// in front with `tuning.receivers_only`). A polygon has the shooters above it only if it
+    /// in front with `tuning.receivers_only()`). A polygon has the shooters above it only if it
     /// has every one of them above it (a shooter's own polygon, which it sends nothing, aside).
     /// `touched` gets the receivers and the shooters.
-    pub(super) fn select(
+    pub(crate) fn select(
         &mut self,
         shooters: &[Shooter],
         tuning: &Tuning,
@@ -185,14 +176,14 @@ impl Receivers {
     }
 
     /// `select`'s receivers by where they lie: every polygon with patches, or (with
-    /// `tuning.receivers_only`) those some shooter is in front of and in front of some shooter.
+    /// `tuning.receivers_only()`) those some shooter is in front of and in front of some shooter.
     fn select_in_front(&mut self, shooters: &[Shooter], tuning: &Tuning, touched: &mut Vec<usize>) {
         let reaches: Vec<(Vec3, f32)> = shooters
             .iter()
             .map(|s| sphere_around(s.position, &s.corners[..s.corner_count.max(1)]))
             .collect();
         for &p in &self.with_patches {
-            let flag = if !tuning.receivers_only {
+            let flag = if !tuning.receivers_only() {
                 CLIPPED
             } else {
                 // Each shooter's reception, its own polygon left out (only its shooting texels
@@ -230,8 +221,8 @@ impl Receivers {
     /// pass) only where every other polygon in the block has the shooter above it (a polygon
     /// that receives nothing must get its exact zero from the clipped factor; the shooter's
     /// texels get zero from either).
-    pub(super) fn shaders(tuning: &Tuning) -> (impl Fn(&u8) -> bool, impl Fn(&u8) -> bool) {
-        let skip = tuning.skip_needless_clipping && tuning.marking_pass;
+    pub(crate) fn shaders(tuning: &Tuning) -> (impl Fn(&u8) -> bool, impl Fn(&u8) -> bool) {
+        let skip = tuning.skip_needless_clipping() && tuning.marking_pass;
         let above = move |f: &u8| skip && *f & !SHOOTER == SHOOTER_ABOVE;
         let clipped = move |f: &u8| *f & (SHOOTER_ABOVE | CLIPPED | SHOOTER) != 0 && !above(f);
         (clipped, above)
@@ -284,107 +275,5 @@ impl Receivers {
         } else {
             Reception::Clipped
         }
-    }
-}
-
-/// Per polygon, the blocks (indices in rows of `wide`) that hold its patches, ascending, one
-/// list after another, and where each polygon's list starts (one more entry than polygons).
-fn patch_blocks(layout: &PatchLayout, wide: usize) -> (Vec<u32>, Vec<usize>) {
-    let width = layout.atlas_width as usize;
-    let b = BLOCK as usize;
-    // (polygon, block) of every patch texel; `owner` is the polygon ID + 1, 0 for no patch.
-    let mut pairs: Vec<(u32, u32)> = (layout.owner.iter().enumerate())
-        .filter(|&(_, &o)| o != 0)
-        .map(|(i, &o)| (o - 1, ((i / width / b) * wide + i % width / b) as u32))
-        .collect();
-    pairs.sort_unstable();
-    pairs.dedup();
-    let polygons = layout.patches_per_polygon.len();
-    let mut starts = vec![0; polygons + 1];
-    for &(p, _) in &pairs {
-        starts[p as usize + 1] += 1;
-    }
-    for p in 0..polygons {
-        starts[p + 1] += starts[p];
-    }
-    (pairs.into_iter().map(|(_, block)| block).collect(), starts)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::patches::Resolution;
-    use crate::scene::bundled;
-    use std::collections::BTreeSet;
-
-    #[test]
-    fn each_polygon_lists_exactly_the_blocks_that_hold_its_patches() {
-        let (mut listed, mut in_rectangles) = (0, 0);
-        for scene in &bundled::ALL {
-            let scene = scene.load().unwrap();
-            let layout = PatchLayout::new(&scene, Resolution::Patches(4096)).without_gutters();
-            let wide = layout.atlas_width.div_ceil(BLOCK) as usize;
-            let (blocks, starts) = patch_blocks(&layout, wide);
-            let (width, b) = (layout.atlas_width as usize, BLOCK as usize);
-            for (p, [x0, y0, x1, y1]) in layout.texel_rects().into_iter().enumerate() {
-                let mine = &blocks[starts[p]..starts[p + 1]];
-                let expected: BTreeSet<u32> = (layout.owner.iter().enumerate())
-                    .filter(|&(_, &o)| o == p as u32 + 1)
-                    .map(|(i, _)| ((i / width) / b * wide + (i % width) / b) as u32)
-                    .collect();
-                assert_eq!(
-                    mine,
-                    expected.into_iter().collect::<Vec<_>>(),
-                    "polygon {p}"
-                );
-                listed += mine.len();
-                if layout.patches_per_polygon[p] > 0 {
-                    let (bx, by) = (
-                        x1.div_ceil(BLOCK) - x0 / BLOCK,
-                        y1.div_ceil(BLOCK) - y0 / BLOCK,
-                    );
-                    in_rectangles += (bx * by) as usize;
-                }
-            }
-        }
-        // The bundled scenes' lightmaps fill their rectangles' blocks.
-        assert_eq!(listed, in_rectangles);
-    }
-
-    #[test]
-    fn a_concave_polygon_lists_fewer_blocks_than_its_rectangle() {
-        // An L-shaped floor of three unit squares, merged into one polygon, under a small light:
-        // a quarter of its rectangle holds no patch.
-        let temp = tempfile::tempdir().unwrap();
-        let dir = temp.path();
-        std::fs::write(
-            dir.join("l.mtl"),
-            "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1 1 1\n",
-        )
-        .unwrap();
-        std::fs::write(
-            dir.join("l.obj"),
-            "mtllib l.mtl\nv 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 0 1\nv 1 0 1\nv 2 0 1\nv 0 0 2\n\
-             v 1 0 2\nv 0.4 1 0.4\nv 0.6 1 0.4\nv 0.6 1 0.6\nv 0.4 1 0.6\nusemtl floor\n\
-             f 1 4 5 2\nf 2 5 6 3\nf 4 7 8 5\nusemtl light\nf 9 10 11 12\n",
-        )
-        .unwrap();
-        let scene = crate::scene::load_obj(&dir.join("l.obj")).unwrap();
-        assert_eq!(scene.polygons.len(), 2, "the L merged into one polygon");
-        let layout = PatchLayout::new(&scene, Resolution::Patches(4096)).without_gutters();
-        let wide = layout.atlas_width.div_ceil(BLOCK) as usize;
-        let (_, starts) = patch_blocks(&layout, wide);
-        let floor = (0..2)
-            .max_by_key(|&p| layout.patches_per_polygon[p])
-            .unwrap();
-        let [x0, y0, x1, y1] = layout.texel_rects()[floor];
-        let rectangle = (x1.div_ceil(BLOCK) - x0 / BLOCK) * (y1.div_ceil(BLOCK) - y0 / BLOCK);
-        let listed = starts[floor + 1] - starts[floor];
-        // Three quarters of the rectangle, give or take the blocks along the inner edges.
-        let share = listed as f64 / rectangle as f64;
-        assert!(
-            (0.7..0.85).contains(&share),
-            "{listed} of {rectangle} blocks"
-        );
     }
 }

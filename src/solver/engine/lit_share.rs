@@ -7,7 +7,7 @@
 /// and cheap beside the readback itself. Odd, so that it does not follow the atlas's rows.
 const STRIDE: usize = 13;
 
-pub(super) struct LitShare {
+pub(crate) struct LitShare {
     /// Offsets of the sampled patch texels in an RGBA atlas.
     samples: Vec<usize>,
     /// Their unshot radiance at the last readback.
@@ -22,7 +22,7 @@ pub(super) struct LitShare {
 impl LitShare {
     /// Sample the patch texels (alpha, the polygon ID + 1, not 0) of `unshot`, the atlas as
     /// initialised.
-    pub(super) fn new(unshot: &[f32]) -> Self {
+    pub(crate) fn new(unshot: &[f32]) -> Self {
         let samples: Vec<usize> = (unshot.chunks_exact(4).enumerate())
             .filter(|(_, t)| t[3] != 0.0)
             .map(|(i, _)| 4 * i)
@@ -39,7 +39,7 @@ impl LitShare {
     }
 
     /// Take the readback after a shot: the share of the samples whose unshot radiance changed.
-    pub(super) fn observe(&mut self, unshot: &[f32]) {
+    pub(crate) fn observe(&mut self, unshot: &[f32]) {
         let mut changed = 0;
         for (&i, before) in self.samples.iter().zip(&mut self.before) {
             let now = rgb(unshot, i);
@@ -52,7 +52,7 @@ impl LitShare {
     }
 
     /// Count a reconstruction pass.
-    pub(super) fn passed(&mut self) {
+    pub(crate) fn passed(&mut self) {
         self.passes += 1;
     }
 
@@ -60,7 +60,7 @@ impl LitShare {
     /// least share a pass of it lit on average (its passes may have lit the same patches or
     /// others). A shot of many small cells (the accurate mode's) lights much in all, little
     /// in each pass.
-    pub(super) fn per_pass(&self) -> f32 {
+    pub(crate) fn per_pass(&self) -> f32 {
         self.share / self.passes_of_shot as f32
     }
 }
