@@ -282,7 +282,11 @@ fn the_levels_gltf_is_lit_by_the_sky_too() {
     };
     let tmp = tempfile::tempdir().unwrap();
     let (s, _) = solve_under_the_sky(&level, &tmp.path().join("out"), 0.25);
-    assert!(s["polygons"].as_u64().unwrap() > 20_000, "{}", s["polygons"]);
+    assert!(
+        s["polygons"].as_u64().unwrap() > 20_000,
+        "{}",
+        s["polygons"]
+    );
 }
 
 #[test]

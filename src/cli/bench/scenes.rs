@@ -335,7 +335,10 @@ mod tests {
             !t.met(103_267, 0.05, 40.0, 400.0),
             "a looser --threshold does not count"
         );
-        assert!(!t.met(103_267, f64::NAN, 40.0, 400.0), "no unshot share read");
+        assert!(
+            !t.met(103_267, f64::NAN, 40.0, 400.0),
+            "no unshot share read"
+        );
         assert!(!t.met(103_267, 0.0099, f64::NAN, 400.0), "no time read");
         assert_eq!(t.describe(), "1 % unshot, ≥ 100,000 patches, ≤ 60 s");
         assert_eq!(t.max_seconds(), "120");
@@ -361,7 +364,12 @@ mod tests {
         assert_eq!(targets, ["conference-room", "zdm2", "lost-empire-100k"]);
         for s in &SCENES {
             // Only Lost Empire's target row changes a setting; the others run the defaults.
-            assert_eq!(s.extra.is_empty(), s.name != "lost-empire-100k", "{}", s.name);
+            assert_eq!(
+                s.extra.is_empty(),
+                s.name != "lost-empire-100k",
+                "{}",
+                s.name
+            );
             assert_eq!(SCENES.iter().filter(|t| t.name == s.name).count(), 1);
         }
         assert_eq!(thousands(1_048_576), "1,048,576");
