@@ -9,7 +9,7 @@ use super::seen_receivers::{Reach, SeenReceivers};
 use crate::gl::{GlContext, GlError};
 use crate::scene::Scene;
 use crate::solver::mesh::SceneMesh;
-use crate::solver::visibility::{self, DrawList, Filled, ItemBufferFill, Shot};
+use crate::solver::visibility::{self, one_by_one, DrawList, Filled, ItemBufferFill, Shot};
 use crate::solver::{Tuning, VisibilityKind};
 use glow::HasContext;
 use std::any::Any;
@@ -125,15 +125,7 @@ impl ItemBufferFill for CulledViews {
         put: &mut dyn FnMut(usize, Filled<'_>) -> Result<(), GlError>,
     ) -> Result<(), GlError> {
         if !self.culls || shots.len() < 2 {
-            for (slot, shot) in shots.iter().enumerate() {
-                let filled = self.shot(mesh, shot, slot);
-                let drawn = matches!(filled, Filled::Drawn { .. });
-                put(slot, filled)?;
-                if drawn {
-                    self.after_draw(ctx);
-                }
-            }
-            return Ok(());
+            return one_by_one(self, ctx, mesh, shots, put);
         }
         let ids: Vec<usize> = (shots.iter())
             .map(|s| self.plates.representative[s.shooter.polygon])

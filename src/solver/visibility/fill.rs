@@ -86,15 +86,7 @@ pub trait ItemBufferFill: Any {
         shots: &[Shot],
         put: &mut dyn FnMut(usize, Filled<'_>) -> Result<(), GlError>,
     ) -> Result<(), GlError> {
-        for (slot, shot) in shots.iter().enumerate() {
-            let filled = self.shot(mesh, shot, slot);
-            let drawn = matches!(filled, Filled::Drawn { .. });
-            put(slot, filled)?;
-            if drawn {
-                self.after_draw(ctx);
-            }
-        }
-        Ok(())
+        one_by_one(self, ctx, mesh, shots, put)
     }
 
     /// Called after the views of a shot are drawn (and the FBO left); the paper does nothing.
@@ -105,6 +97,26 @@ pub trait ItemBufferFill: Any {
 
     /// This fill as `Any`, to change.
     fn as_any_mut(&mut self) -> &mut dyn Any;
+}
+
+/// [`ItemBufferFill::pass`] one shot after the other: the default, and the engine's way when
+/// there is nothing to prepare beside the draws.
+pub fn one_by_one<F: ItemBufferFill + ?Sized>(
+    fill: &mut F,
+    ctx: &GlContext,
+    mesh: &SceneMesh,
+    shots: &[Shot],
+    put: &mut dyn FnMut(usize, Filled<'_>) -> Result<(), GlError>,
+) -> Result<(), GlError> {
+    for (slot, shot) in shots.iter().enumerate() {
+        let filled = fill.shot(mesh, shot, slot);
+        let drawn = matches!(filled, Filled::Drawn { .. });
+        put(slot, filled)?;
+        if drawn {
+            fill.after_draw(ctx);
+        }
+    }
+    Ok(())
 }
 
 /// The paper's fill: every view draws the whole scene.

@@ -21,7 +21,7 @@
 
 mod fill;
 
-pub use fill::{DrawList, DrawnViews, Filled, ItemBufferFill, Shot, ViewDraw};
+pub use fill::{one_by_one, DrawList, DrawnViews, Filled, ItemBufferFill, Shot, ViewDraw};
 
 use super::mesh::{SceneMesh, ATTRIBUTES};
 use super::pass_names::VISIBILITY;
