@@ -257,6 +257,11 @@ pub fn cluster_shooter(
     {
         *c = plane + u * a + v * b;
     }
+    let area = (hi.x - lo.x) * (hi.y - lo.y);
+    // Slivers in a line along the normal's plane would spread the energy over no area.
+    if area.is_nan() || area <= 0.0 {
+        return None;
+    }
     let energy = members.iter().fold(Vec3::ZERO, |sum, &(_, e)| sum + e);
     Some(Shooter {
         polygon: lead,
@@ -267,7 +272,7 @@ pub fn cluster_shooter(
         energy,
         corners,
         corner_count: 4,
-        area: (hi.x - lo.x) * (hi.y - lo.y),
+        area,
         remainder: Vec3::ZERO,
         hemi_res: 0,
         turn: 0.0,
