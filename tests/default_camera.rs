@@ -65,9 +65,7 @@ fn seen_through_its_opening(name: &str, scene: &Scene, out: Vec3) {
 fn every_box_of_the_cornell_family_is_seen_through_its_open_front() {
     let mut paths = vec!["cornell-box/CornellBox-Original.obj".to_string()];
     for variant in CORNELL_FAMILY {
-        paths.push(format!(
-            "cornell-box-family/CornellBox-{variant}/CornellBox-{variant}.obj"
-        ));
+        paths.push(cornell_family_path(variant));
     }
     for path in paths {
         let Some(file) = third_party(&path) else {
@@ -82,8 +80,7 @@ fn every_box_of_the_cornell_family_is_seen_through_its_open_front() {
 /// red wall on the left and the blue one on the right.
 #[test]
 fn the_sphere_box_is_pictured_with_its_back_wall_in_the_middle() {
-    let name = "CornellBox-Sphere";
-    let Some(file) = third_party(&format!("cornell-box-family/{name}/{name}.obj")) else {
+    let Some(file) = cornell_family_box("Sphere") else {
         return;
     };
     let tmp = tempfile::tempdir().unwrap();
@@ -117,8 +114,7 @@ fn the_sphere_box_is_pictured_with_its_back_wall_in_the_middle() {
 /// A box open at -X (the archive's box turned a quarter): seen from -X, looking along +X.
 #[test]
 fn a_box_open_at_the_side_is_seen_from_that_side() {
-    let Some(file) = third_party("cornell-box-family/CornellBox-Sphere/CornellBox-Sphere.obj")
-    else {
+    let Some(file) = cornell_family_box("Sphere") else {
         return;
     };
     let mut scene = load_obj(&file).unwrap();

@@ -345,8 +345,7 @@ fn coplanar_tiles_shoot_as_without_and_the_paper_never_clusters_faces() {
 /// and passes than without, and the picture's radiance close to the solve without.
 #[test]
 fn the_water_box_solves_in_fewer_passes_with_every_shot_within_its_bound() {
-    let name = "CornellBox-Water";
-    let Some(path) = third_party(&format!("cornell-box-family/{name}/{name}.obj")) else {
+    let Some(path) = cornell_family_box("Water") else {
         return;
     };
     let scene = load_obj(&path).unwrap();

@@ -116,7 +116,7 @@ fn every_box_of_the_cornell_family_solves_with_the_defaults_within_its_bound() {
     let ctx = context();
     for variant in CORNELL_FAMILY {
         let name = format!("CornellBox-{variant}");
-        let Some(path) = third_party(&format!("cornell-box-family/{name}/{name}.obj")) else {
+        let Some(path) = cornell_family_box(variant) else {
             return;
         };
         let scene = load_obj(&path).unwrap();

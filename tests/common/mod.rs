@@ -228,6 +228,16 @@ pub const CORNELL_FAMILY: [&str; 8] = [
     "Mirror",
 ];
 
+/// Where the family's `variant` lies below the third-party folder.
+pub fn cornell_family_path(variant: &str) -> String {
+    format!("cornell-box-family/CornellBox-{variant}/CornellBox-{variant}.obj")
+}
+
+/// The family's `variant` file, or `None` when it is absent (see [`third_party`]).
+pub fn cornell_family_box(variant: &str) -> Option<PathBuf> {
+    third_party(&cornell_family_path(variant))
+}
+
 /// A third-party scene with `material` made an emitter of radiance `ke` (`--emit`), or `None`
 /// when the file is absent (see [`third_party`]).
 pub fn third_party_lit(path: &str, material: &str, ke: [f32; 3]) -> Option<Scene> {
