@@ -111,11 +111,9 @@ fn a_pane_in_front_of_a_wall_casts_its_shadow() {
 #[test]
 fn the_simple_room_solved_on_both() {
     // The Table 1 bench's solve of the simple room (its options, to 1 % unshot) on both solvers:
-    // the shots docs/numbers.md gives (GPU 1,333, CPU 1,377: the 128² item buffers drawn, as
-    // the llvmpipe engine does again since issue 56; 1,332 and 1.43 % while the walk wrote them;
-    // README's Table 1 run had 1,334 on the GPU, before receivers on a shooter's plane got 0)
-    // and the mean patch difference (1.45 %: mean absolute difference over the mean radiance,
-    // RGB means).
+    // the shots docs/numbers.md gives (GPU 1,352, CPU 1,398, as on 2026-12-03: the row scales
+    // no shot back since 2026-12-07; 1,333 and 1,377 while it did) and the mean patch
+    // difference (1.49 %: mean absolute difference over the mean radiance, RGB means).
     let scene = load("simple");
     let layout = PatchLayout::new(&scene, Resolution::PatchSize(scene.patch_size.unwrap()));
     let ctx = context();
@@ -141,11 +139,11 @@ fn the_simple_room_solved_on_both() {
         100.0 * difference
     );
     assert_eq!(n, 14445);
-    assert_eq!((gpu.shots(), cpu.shots()), (1333, 1377), "shots GPU, CPU");
+    assert_eq!((gpu.shots(), cpu.shots()), (1352, 1398), "shots GPU, CPU");
     assert_quoted(
         "simple room, mean patch difference",
         100.0 * difference,
-        "1.45",
+        "1.49",
     );
 }
 

@@ -64,12 +64,12 @@ fn no_speed_option_moves_the_simple_room_away_from_the_exhaustive_solution() {
     );
     // README ("Table 1") and docs/accuracy.md quote these.
     let quoted = [
-        ("paper-faithful", "1.77", 1333),
-        ("overshoot", "1.52", 878),
-        ("item buffer by shot", "1.58", 1375),
-        ("item buffer turned", "1.72", 1347),
-        ("shooters per pass", "1.53", 1346),
-        ("whole polygons", "1.32", 906),
+        ("paper-faithful", "1.86", 1352),
+        ("overshoot", "1.61", 883),
+        ("item buffer by shot", "1.68", 1394),
+        ("item buffer turned", "1.82", 1359),
+        ("shooters per pass", "1.86", 1346),
+        ("whole polygons", "1.25", 906),
     ];
     for &(name, shots, d) in &differences {
         println!("{name}: {:.4} %, {shots} shots", 100.0 * d);
