@@ -375,28 +375,6 @@ impl<'a, B: Backend> Solver<'a, B> {
             }
             return Ok(());
         }
-        let totals = self.ledger.totals();
-        let mut gains: Vec<(f64, usize)> = totals_before
-            .iter()
-            .filter(|&&(p, _)| p != record.shooter)
-            .map(|&(p, old)| {
-                let old = std::f64::consts::PI * (old[0] + old[1] + old[2]) / 3.0;
-                (totals.power(p) - old, p)
-            })
-            .filter(|&(g, _)| g > 0.0)
-            .collect();
-        gains.sort_by(|a, b| b.0.total_cmp(&a.0));
-        let name = |p: usize| {
-            format!(
-                "polygon {p} of '{}'",
-                crate::scene::shown(&self.scene.polygons[p].object)
-            )
-        };
-        let receivers: Vec<String> = gains
-            .iter()
-            .take(5)
-            .map(|&(g, p)| format!("{} (+{g:.3e})", name(p)))
-            .collect();
         // The paper's point form factor has no bound near the shooter (in the simple room a sofa
         // 2 cm from a wall receives 2.8x what the wall shot, and the solve runs away to NaN),
         // so in the paper's mode the excess is the algorithm's own; still the answer would be
@@ -412,16 +390,10 @@ impl<'a, B: Backend> Solver<'a, B> {
             "Overlapping faces in one plane (a face given twice) or intersecting faces do this; \
              remove the duplicates"
         };
-        Err(SolveError::EnergyCreated {
-            cause,
-            shot: record.shot,
-            unshot: growth,
-            shooter: name(record.shooter),
-            shot_power: record.shot_power,
-            received: record.received_power,
-            excess: balance.excess(),
-            receivers: receivers.join(", "),
-        })
+        let (scene, after) = (self.scene, self.ledger.totals());
+        let error =
+            balance::energy_created(scene, record, balance, totals_before, after, growth, cause);
+        Err(error)
     }
 
     /// Run to the stopping rule; `progress` sees every shot.
