@@ -19,9 +19,9 @@
 //! over that rectangle: exact far away, and never more than it carried, by reciprocity); every
 //! member's unshot energy is cleared, and the shot's books count each member's energy as carried
 //! (`Solver::shoot_step`), so the balance judges it. Which cluster, if any, shoots with the
-//! polygon Find_Max_Energy picked is [`ClusterChoice::cluster_of`]. Scenes whose polygons average more than
-//! [`AVERAGE_PATCHES`] patches (the Table 1 rooms, the Cornell boxes) have no clusters: their
-//! shots stay as they were.
+//! polygon Find_Max_Energy picked is [`ClusterChoice::cluster_of`]. Scenes whose polygons
+//! average more than [`AVERAGE_PATCHES`] patches (the Table 1 rooms, the Cornell boxes) have no
+//! clusters: their shots stay as they were.
 
 use super::face_clusters::{self, FaceClusters};
 use super::find_max_energy::EnergyTotals;

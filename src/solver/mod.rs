@@ -4,13 +4,14 @@
 //! [`Backend`] that does the passes: `gpu.rs` on OpenGL as the paper does, `cpu/` in Rust with
 //! exact visibility. Each step has its own file: `find_max_energy.rs` (choose the shooter, from
 //! the books both backends share: unshot totals, areas, stopping rule, history, pass timers),
-//! `balance.rs` (a shot's energy books), `shooters.rs` (the shooter's cells), `visibility/` (item buffer from the shooter, and what it
-//! may leave out), `reconstruction/` (form factors and received energy per patch, accumulation),
-//! `form_factor.rs` (the CPU twins of the shader's factors). `mesh.rs` builds the vertex data
-//! the passes draw; `pass_names.rs` names the steps (timers, GL errors); `tuning.rs` holds every
-//! speed trick for llvmpipe, apart from the paper; `overshoot.rs` the ambient estimate of
-//! overshooting, one of the speed options beyond the paper that change the answer
-//! (`SolveOptions::overshoot`, `small_hemi_res`, `rotate_item_buffer`, `shooters_per_pass`).
+//! `balance.rs` (a shot's energy books), `shooters.rs` (the shooter's cells), `visibility/`
+//! (item buffer from the shooter, and what it may leave out), `reconstruction/` (form factors
+//! and received energy per patch, accumulation), `form_factor.rs` (the CPU twins of the
+//! shader's factors). `mesh.rs` builds the vertex data the passes draw; `pass_names.rs` names
+//! the steps (timers, GL errors); `tuning.rs` holds every speed trick for llvmpipe, apart from
+//! the paper; `overshoot.rs` the ambient estimate of overshooting, one of the speed options
+//! beyond the paper that change the answer (`SolveOptions::overshoot`, `small_hemi_res`,
+//! `rotate_item_buffer`, `shooters_per_pass`).
 
 pub mod balance;
 pub mod clusters;
