@@ -586,7 +586,7 @@ fn the_checker_reports_planted_stale_references() {
 #[test]
 fn the_checker_accepts_what_exists() {
     let tree = Tree::read(root());
-    let good = "`src/solver/ledger.rs`, `src/solver/`, `glsl/*.frag`, `scenes/NAME/NAME.obj`,\n\
+    let good = "`src/solver/find_max_energy.rs`, `src/solver/`, `glsl/*.frag`, `scenes/NAME/NAME.obj`,\n\
                 [usage](usage.md#solve), [readme](../README.md), `reconstruct.frag`, `mod.rs`,\n\
                 `Ledger::new`, `Ledger::max_energy_polygons`, `solver::visibility::VisibilityPass`,\n\
                 `crate::solver::Tuning`, `SolveOptions::whole_polygons` (glob re-export),\n\

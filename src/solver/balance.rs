@@ -1,5 +1,6 @@
 //! The energy balance of one shot, per colour channel: what the shooters carried against what
-//! their receivers received.
+//! their receivers received; and the error that names a refused shot's receivers
+//! ([`energy_created`]).
 //!
 //! A receiver's unshot energy grows by ρ × what reaches it, so what reached it is its gain over
 //! its reflectance, channel by channel. Summed over the receivers this is the power the shot
@@ -10,7 +11,7 @@
 //! it carried creates energy.
 
 use super::find_max_energy::EnergyTotals;
-use super::Shooter;
+use super::{Shooter, ShotRecord, SolveError};
 use crate::scene::Scene;
 use glam::DVec3;
 
@@ -153,6 +154,52 @@ pub fn correction(shooters: &[Shooter], balance: &ShotBalance) -> Vec<Shooter> {
             ..*s
         })
         .collect()
+}
+
+/// The error of a shot the solve refuses (`Solver::check_balance`): `record`'s shot, whose books
+/// are `balance`, left the unshot power at `growth` times what the solve started from. It names
+/// the five receivers that gained most, from their totals `before` the shot to those `after` it,
+/// and the likely `cause`.
+pub fn energy_created(
+    scene: &Scene,
+    record: &ShotRecord,
+    balance: &ShotBalance,
+    before: &[(usize, [f64; 3])],
+    after: &EnergyTotals,
+    growth: f64,
+    cause: &'static str,
+) -> SolveError {
+    let mut gains: Vec<(f64, usize)> = before
+        .iter()
+        .filter(|&&(p, _)| p != record.shooter)
+        .map(|&(p, old)| {
+            let old = std::f64::consts::PI * (old[0] + old[1] + old[2]) / 3.0;
+            (after.power(p) - old, p)
+        })
+        .filter(|&(g, _)| g > 0.0)
+        .collect();
+    gains.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let name = |p: usize| {
+        format!(
+            "polygon {p} of '{}'",
+            crate::scene::shown(&scene.polygons[p].object)
+        )
+    };
+    let receivers: Vec<String> = gains
+        .iter()
+        .take(5)
+        .map(|&(g, p)| format!("{} (+{g:.3e})", name(p)))
+        .collect();
+    SolveError::EnergyCreated {
+        cause,
+        shot: record.shot,
+        unshot: growth,
+        shooter: name(record.shooter),
+        shot_power: record.shot_power,
+        received: record.received_power,
+        excess: balance.excess(),
+        receivers: receivers.join(", "),
+    }
 }
 
 #[cfg(test)]

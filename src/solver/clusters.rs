@@ -18,11 +18,14 @@
 //! the rectangle around its members as the outline of the polygon form factor (its energy spread
 //! over that rectangle: exact far away, and never more than it carried, by reciprocity); every
 //! member's unshot energy is cleared, and the shot's books count each member's energy as carried
-//! (`Solver::shoot_step`), so the balance judges it. Scenes whose polygons average more than
-//! [`AVERAGE_PATCHES`] patches (the Table 1 rooms, the Cornell boxes) have no clusters: their
-//! shots stay as they were.
+//! (`Solver::shoot_step`), so the balance judges it. Which cluster, if any, shoots with the
+//! polygon Find_Max_Energy picked is [`ClusterChoice::cluster_of`]. Scenes whose polygons
+//! average more than [`AVERAGE_PATCHES`] patches (the Table 1 rooms, the Cornell boxes) have no
+//! clusters: their shots stay as they were.
 
-use super::{Shooter, MAX_CORNERS};
+use super::face_clusters::{self, FaceClusters};
+use super::find_max_energy::EnergyTotals;
+use super::{item_buffer_side, Shooter, SolveOptions, MAX_CORNERS};
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
 use glam::Vec3;
@@ -277,6 +280,131 @@ pub fn cluster_shooter(
         hemi_res: 0,
         turn: 0.0,
     })
+}
+
+/// A polygon whose unshot energy a cluster's shooter carries: the shooter's index among the
+/// step's shooters, and the energy (Σ L·A, RGB) the shot takes from it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Member {
+    /// Index of its cluster's shooter in the step's shooters.
+    pub shooter: usize,
+    /// The polygon.
+    pub polygon: usize,
+    /// What it carries: its unshot energy when the step began.
+    pub energy: glam::Vec3,
+    /// Whether its cluster is a face cluster (`face_clusters.rs`), not a coplanar one.
+    pub face: bool,
+}
+
+/// What choosing a step's cluster shots reads of the solve (`Solver::next_shooters`).
+pub struct ClusterChoice<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// The caller's layout (patch size, patches per polygon).
+    pub layout: &'a PatchLayout,
+    /// The solve's options (`cut_above`, `shooter_cell`, the item-buffer sides).
+    pub options: &'a SolveOptions,
+    /// Every polygon's unshot energy, as last read back.
+    pub totals: &'a EnergyTotals,
+    /// The scene's emitted power.
+    pub emitted_power: f64,
+    /// The coplanar clusters.
+    pub clusters: &'a Clusters,
+    /// The face clusters (`SolveOptions::face_clusters`), if the solve uses them.
+    pub face_clusters: Option<&'a FaceClusters>,
+}
+
+impl ClusterChoice<'_> {
+    /// Beyond the paper: the shooter of `p`'s cluster ([`Clusters`]) and its members, when `p`
+    /// belongs to one and at least two of its members have something to shoot of the same sign
+    /// as `p`'s (not in `taken`; every channel ≥ 0, or with overshooting every channel ≤ 0: a
+    /// shot carries light or takes back what was overshot, never both): the coarse cluster when
+    /// its members carry less than `cut_above` of the emitted power together (as a polygon's
+    /// coarse cells), else the fine one. `None`: `p` shoots alone.
+    pub fn cluster_of(&self, p: usize, taken: &[usize]) -> Option<(Shooter, Vec<Member>)> {
+        let totals = self.totals;
+        let sign = |e: glam::Vec3| {
+            if e.min_element() >= 0.0 && e.max_element() > 0.0 {
+                1
+            } else if e.max_element() <= 0.0 && e.min_element() < 0.0 {
+                -1
+            } else {
+                0
+            }
+        };
+        let of_p = sign(totals.energy_rgb(p));
+        if of_p == 0 {
+            return None;
+        }
+        if let Some(found) = self.face_cluster_of(p, taken, |q| sign(totals.energy_rgb(q)) == of_p)
+        {
+            return Some(found);
+        }
+        let shooting = |coarse: bool| -> Option<Vec<(usize, glam::Vec3)>> {
+            let members: Vec<(usize, glam::Vec3)> = (self.clusters.members_of(p, coarse)?)
+                .iter()
+                .filter(|q| !taken.contains(q))
+                .map(|&q| (q, totals.energy_rgb(q)))
+                .filter(|&(_, e)| sign(e) == of_p)
+                .collect();
+            (members.len() >= 2 && members.iter().any(|&(q, _)| q == p)).then_some(members)
+        };
+        let small = |members: &Vec<(usize, glam::Vec3)>| {
+            let power: f64 = members.iter().map(|&(q, _)| totals.magnitude(q)).sum();
+            power < self.options.cut_above as f64 * self.emitted_power
+        };
+        let members = match shooting(true) {
+            Some(coarse) if small(&coarse) => coarse,
+            _ => shooting(false)?,
+        };
+        self.cluster_shot(members, None)
+    }
+
+    /// Beyond the paper (`SolveOptions::face_clusters`): the shooter of the face cluster that
+    /// `p` shoots with and its members, those not in `taken` and of `p`'s sign (`same_sign`),
+    /// when the cluster its error bound allows is not flat (`FaceClusters::shot_of`): it shoots
+    /// along the cluster's mean normal, and only its direction errs.
+    fn face_cluster_of(
+        &self,
+        p: usize,
+        taken: &[usize],
+        same_sign: impl Fn(usize) -> bool,
+    ) -> Option<(Shooter, Vec<Member>)> {
+        let hierarchy = self.face_clusters?;
+        let totals = self.totals;
+        let bound = face_clusters::Bound {
+            power: self.options.cut_above as f64 * self.emitted_power,
+            fine_reach: self.options.shooter_cell as f32 * self.layout.patch_size,
+        };
+        let power = |q: usize| (!taken.contains(&q) && same_sign(q)).then(|| totals.magnitude(q));
+        let (members, normal) = hierarchy.shot_of(p, power, &bound)?;
+        let members = (members.into_iter())
+            .map(|q| (q, totals.energy_rgb(q)))
+            .collect();
+        self.cluster_shot(members, Some(normal))
+    }
+
+    /// The one shooter of cluster `members` (polygon, unshot energy), along `normal` when a face
+    /// cluster's ([`cluster_shooter`]), and its members.
+    fn cluster_shot(
+        &self,
+        members: Vec<(usize, glam::Vec3)>,
+        normal: Option<glam::Vec3>,
+    ) -> Option<(Shooter, Vec<Member>)> {
+        let patches = &self.layout.patches_per_polygon;
+        let mut shooter = cluster_shooter(self.scene, patches, &members, normal)?;
+        shooter.hemi_res = item_buffer_side(self.options, shooter.power() / self.emitted_power);
+        let members = members
+            .into_iter()
+            .map(|(polygon, energy)| Member {
+                shooter: 0,
+                polygon,
+                energy,
+                face: normal.is_some(),
+            })
+            .collect();
+        Some((shooter, members))
+    }
 }
 
 #[cfg(test)]

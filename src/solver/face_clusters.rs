@@ -4,8 +4,8 @@
 //! touching polygons whose normals stay within a cone. A small polygon picked by
 //! Find_Max_Energy shoots with the largest cluster around it that its error bound allows
 //! ([`FaceClusters::shot_of`], [`Bound`]: the [`misdirected`] power within `cut_above` of the
-//! emitted power), as one `Shooter` (`Solver::cluster_of`: the members' summed energy, cleared
-//! before the passes and counted as carried in the books, as `clusters.rs`'s are), from the
+//! emitted power), as one `Shooter` (`ClusterChoice::cluster_of`: the members' summed energy,
+//! cleared before the passes and counted as carried in the books, as `clusters.rs`'s are), from the
 //! member nearest the power-weighted centre, along the mean normal, with the members' rectangle
 //! on that plane as the form factor's outline; by reciprocity it delivers no more than it
 //! carries, and only its direction errs. Flat clusters are left to `clusters.rs`, so a scene

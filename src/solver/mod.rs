@@ -2,15 +2,16 @@
 //!
 //! `progressive.rs` is the loop in the paper's order, written once ([`Solver`]) over a
 //! [`Backend`] that does the passes: `gpu.rs` on OpenGL as the paper does, `cpu/` in Rust with
-//! exact visibility. `ledger.rs` keeps the books both share (unshot totals, areas, stopping rule,
-//! history, pass timers). Each step has its own file: `find_max_energy.rs` (choose the shooter),
-//! `shooters.rs` (the shooter's cells), `visibility/` (item buffer from the shooter, and what it
-//! may leave out), `reconstruction/` (form factors and received energy per patch, accumulation),
-//! `form_factor.rs` (the CPU twins of the shader's factors). `mesh.rs` builds the vertex data
-//! the passes draw; `pass_names.rs` names the steps (timers, GL errors); `tuning.rs` holds every
-//! speed trick for llvmpipe, apart from the paper; `overshoot.rs` the ambient estimate of
-//! overshooting, one of the speed options beyond the paper that change the answer
-//! (`SolveOptions::overshoot`, `small_hemi_res`, `rotate_item_buffer`, `shooters_per_pass`).
+//! exact visibility. Each step has its own file: `find_max_energy.rs` (choose the shooter, from
+//! the books both backends share: unshot totals, areas, stopping rule, history, pass timers),
+//! `balance.rs` (a shot's energy books), `shooters.rs` (the shooter's cells), `visibility/`
+//! (item buffer from the shooter, and what it may leave out), `reconstruction/` (form factors
+//! and received energy per patch, accumulation), `form_factor.rs` (the CPU twins of the
+//! shader's factors). `mesh.rs` builds the vertex data the passes draw; `pass_names.rs` names
+//! the steps (timers, GL errors); `tuning.rs` holds every speed trick for llvmpipe, apart from
+//! the paper; `overshoot.rs` the ambient estimate of overshooting, one of the speed options
+//! beyond the paper that change the answer (`SolveOptions::overshoot`, `small_hemi_res`,
+//! `rotate_item_buffer`, `shooters_per_pass`).
 
 pub mod balance;
 pub mod clusters;
@@ -20,7 +21,6 @@ pub mod face_clusters;
 pub mod find_max_energy;
 pub mod form_factor;
 pub mod gpu;
-pub mod ledger;
 pub mod mesh;
 pub mod options;
 pub mod overshoot;
@@ -32,12 +32,13 @@ pub mod shooters;
 pub mod tuning;
 pub mod visibility;
 
+pub use clusters::Member;
 pub use cpu::CpuSolver;
+pub use find_max_energy::{Ledger, PassTimes};
 pub use gpu::GpuSolver;
-pub use ledger::{Ledger, PassTimes};
 pub use options::*;
 pub use profile::{ChosenTuning, Profile, TuningChoice};
-pub use progressive::{Backend, Member, Solver};
+pub use progressive::{Backend, Solver};
 pub use tuning::{ReceiverChoice, Tuning, Walk};
 
 use crate::gl::GlError;

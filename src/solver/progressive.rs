@@ -19,9 +19,9 @@
 //! runs the loop and keeps the books ([`Ledger`]); `GpuSolver` and `CpuSolver` name the two.
 
 use super::balance::{self, ShotBalance};
-use super::clusters::{self, Clusters};
-use super::face_clusters::{self, FaceClusters};
-use super::ledger::{Ledger, PassTimes};
+use super::clusters::{self, ClusterChoice, Clusters, Member};
+use super::face_clusters::FaceClusters;
+use super::find_max_energy::{Ledger, PassTimes};
 use super::overshoot::Overshoot;
 use super::pass_names::{ACCUMULATION, FIND_MAX_ENERGY, READBACK, RECONSTRUCTION, VISIBILITY};
 use super::{shooters, Shooter, ShotRecord, SolveError, SolveOptions};
@@ -64,20 +64,6 @@ pub trait Backend {
     /// Beyond the paper (clusters): zero the unshot radiance of every patch of `polygons`
     /// before a shot's passes, as their cluster's shot carries it; they count as changed.
     fn clear_unshot(&mut self, polygons: &[usize]) -> Result<(), SolveError>;
-}
-
-/// A polygon whose unshot energy a cluster's shooter carries (`clusters.rs`): the shooter's
-/// index among the step's shooters, and the energy (Σ L·A, RGB) the shot takes from it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Member {
-    /// Index of its cluster's shooter in the step's shooters.
-    pub shooter: usize,
-    /// The polygon.
-    pub polygon: usize,
-    /// What it carries: its unshot energy when the step began.
-    pub energy: glam::Vec3,
-    /// Whether its cluster is a face cluster (`face_clusters.rs`), not a coplanar one.
-    pub face: bool,
 }
 
 /// Progressive refinement radiosity on a backend `B`: the paper's loop and its bookkeeping.
@@ -175,7 +161,8 @@ impl<'a, B: Backend> Solver<'a, B> {
     /// Beyond the paper, with `shooters_per_pass` K > 1, the next polygons too, as long as all
     /// their shooters fit in one reconstruction pass, and no more than the shots left before
     /// `max_shots`; and a polygon of a cluster whose shot is small shoots with its cluster
-    /// (`cluster_of`), whose members it returns. Empty when nothing is left to shoot.
+    /// (`ClusterChoice::cluster_of`), whose members it returns. Empty when nothing is left to
+    /// shoot.
     fn next_shooters(&self) -> (Vec<Shooter>, Vec<Member>) {
         let k = self.options.shooters_per_pass.max(1) as usize;
         let left = self.options.max_shots.saturating_sub(self.ledger.shots());
@@ -183,11 +170,22 @@ impl<'a, B: Backend> Solver<'a, B> {
         // The polygons this step already shoots, alone or in a cluster: none shoots twice.
         let mut taken: Vec<usize> = Vec::new();
         let mut units = 0;
+        // Without clusters (`cluster_cell` 0, as in the paper) no polygon has one.
+        let clustered = (self.options.cluster_cell > 0).then(|| ClusterChoice {
+            scene: self.scene,
+            layout: self.layout,
+            options: &self.options,
+            totals: self.ledger.totals(),
+            emitted_power: self.ledger.emitted_power(),
+            clusters: &self.clusters,
+            face_clusters: self.face_clusters.as_ref(),
+        });
         for p in self.next_polygons(k.min(left as usize).max(1)) {
             if taken.contains(&p) {
                 continue;
             }
-            let (mut cells, cluster) = match self.cluster_of(p, &taken) {
+            let cluster = clustered.as_ref().and_then(|c| c.cluster_of(p, &taken));
+            let (mut cells, cluster) = match cluster {
                 Some((shooter, cluster)) => (vec![shooter], cluster),
                 None => (self.shooters_of(p), Vec::new()),
             };
@@ -214,97 +212,6 @@ impl<'a, B: Backend> Solver<'a, B> {
             shooters.append(&mut cells);
         }
         (shooters, members)
-    }
-
-    /// Beyond the paper: the shooter of `p`'s cluster (`clusters.rs`) and its members, when `p`
-    /// belongs to one and at least two of its members have something to shoot of the same sign
-    /// as `p`'s (not in `taken`; every channel ≥ 0, or with overshooting every channel ≤ 0: a
-    /// shot carries light or takes back what was overshot, never both): the coarse cluster when
-    /// its members carry less than `cut_above` of the emitted power together (as a polygon's
-    /// coarse cells), else the fine one. `None`: `p` shoots alone.
-    fn cluster_of(&self, p: usize, taken: &[usize]) -> Option<(Shooter, Vec<Member>)> {
-        let totals = self.ledger.totals();
-        let sign = |e: glam::Vec3| {
-            if e.min_element() >= 0.0 && e.max_element() > 0.0 {
-                1
-            } else if e.max_element() <= 0.0 && e.min_element() < 0.0 {
-                -1
-            } else {
-                0
-            }
-        };
-        let of_p = sign(totals.energy_rgb(p));
-        if of_p == 0 {
-            return None;
-        }
-        if let Some(found) = self.face_cluster_of(p, taken, |q| sign(totals.energy_rgb(q)) == of_p)
-        {
-            return Some(found);
-        }
-        let shooting = |coarse: bool| -> Option<Vec<(usize, glam::Vec3)>> {
-            let members: Vec<(usize, glam::Vec3)> = (self.clusters.members_of(p, coarse)?)
-                .iter()
-                .filter(|q| !taken.contains(q))
-                .map(|&q| (q, totals.energy_rgb(q)))
-                .filter(|&(_, e)| sign(e) == of_p)
-                .collect();
-            (members.len() >= 2 && members.iter().any(|&(q, _)| q == p)).then_some(members)
-        };
-        let small = |members: &Vec<(usize, glam::Vec3)>| {
-            let power: f64 = members.iter().map(|&(q, _)| totals.magnitude(q)).sum();
-            power < self.options.cut_above as f64 * self.ledger.emitted_power()
-        };
-        let members = match shooting(true) {
-            Some(coarse) if small(&coarse) => coarse,
-            _ => shooting(false)?,
-        };
-        self.cluster_shot(members, None)
-    }
-
-    /// Beyond the paper (`SolveOptions::face_clusters`): the shooter of the face cluster that
-    /// `p` shoots with and its members, those not in `taken` and of `p`'s sign (`same_sign`),
-    /// when the cluster its error bound allows is not flat (`FaceClusters::shot_of`): it shoots
-    /// along the cluster's mean normal, and only its direction errs.
-    fn face_cluster_of(
-        &self,
-        p: usize,
-        taken: &[usize],
-        same_sign: impl Fn(usize) -> bool,
-    ) -> Option<(Shooter, Vec<Member>)> {
-        let hierarchy = self.face_clusters.as_ref()?;
-        let totals = self.ledger.totals();
-        let bound = face_clusters::Bound {
-            power: self.options.cut_above as f64 * self.ledger.emitted_power(),
-            fine_reach: self.options.shooter_cell as f32 * self.layout.patch_size,
-        };
-        let power = |q: usize| (!taken.contains(&q) && same_sign(q)).then(|| totals.magnitude(q));
-        let (members, normal) = hierarchy.shot_of(p, power, &bound)?;
-        let members = (members.into_iter())
-            .map(|q| (q, totals.energy_rgb(q)))
-            .collect();
-        self.cluster_shot(members, Some(normal))
-    }
-
-    /// The one shooter of cluster `members` (polygon, unshot energy), along `normal` when a face
-    /// cluster's (`clusters::cluster_shooter`), and its members.
-    fn cluster_shot(
-        &self,
-        members: Vec<(usize, glam::Vec3)>,
-        normal: Option<glam::Vec3>,
-    ) -> Option<(Shooter, Vec<Member>)> {
-        let patches = &self.layout.patches_per_polygon;
-        let mut shooter = clusters::cluster_shooter(self.scene, patches, &members, normal)?;
-        shooter.hemi_res = self.item_buffer_resolution(&shooter);
-        let members = members
-            .into_iter()
-            .map(|(polygon, energy)| Member {
-                shooter: 0,
-                polygon,
-                energy,
-                face: normal.is_some(),
-            })
-            .collect();
-        Some((shooter, members))
     }
 
     /// One shot of the polygons of `shooters` (texels in the caller's layout): a visibility pass
@@ -377,9 +284,11 @@ impl<'a, B: Backend> Solver<'a, B> {
             balance = self.balance_of(&books, &totals_before);
             self.ledger.count_correction();
         }
-        let record =
-            self.ledger
-                .record_shot(polygon, polygons.len() as u32, before, shot_power, &balance);
+        let (carried, received) = (balance.carried_power(), balance.received_power());
+        let count = polygons.len() as u32;
+        let record = self
+            .ledger
+            .record_shot(polygon, count, before, shot_power, carried, received);
         self.check_balance(&record, &balance, &totals_before)?;
         Ok(record)
     }
@@ -466,28 +375,6 @@ impl<'a, B: Backend> Solver<'a, B> {
             }
             return Ok(());
         }
-        let totals = self.ledger.totals();
-        let mut gains: Vec<(f64, usize)> = totals_before
-            .iter()
-            .filter(|&&(p, _)| p != record.shooter)
-            .map(|&(p, old)| {
-                let old = std::f64::consts::PI * (old[0] + old[1] + old[2]) / 3.0;
-                (totals.power(p) - old, p)
-            })
-            .filter(|&(g, _)| g > 0.0)
-            .collect();
-        gains.sort_by(|a, b| b.0.total_cmp(&a.0));
-        let name = |p: usize| {
-            format!(
-                "polygon {p} of '{}'",
-                crate::scene::shown(&self.scene.polygons[p].object)
-            )
-        };
-        let receivers: Vec<String> = gains
-            .iter()
-            .take(5)
-            .map(|&(g, p)| format!("{} (+{g:.3e})", name(p)))
-            .collect();
         // The paper's point form factor has no bound near the shooter (in the simple room a sofa
         // 2 cm from a wall receives 2.8x what the wall shot, and the solve runs away to NaN),
         // so in the paper's mode the excess is the algorithm's own; still the answer would be
@@ -503,16 +390,10 @@ impl<'a, B: Backend> Solver<'a, B> {
             "Overlapping faces in one plane (a face given twice) or intersecting faces do this; \
              remove the duplicates"
         };
-        Err(SolveError::EnergyCreated {
-            cause,
-            shot: record.shot,
-            unshot: growth,
-            shooter: name(record.shooter),
-            shot_power: record.shot_power,
-            received: record.received_power,
-            excess: balance.excess(),
-            receivers: receivers.join(", "),
-        })
+        let (scene, after) = (self.scene, self.ledger.totals());
+        let error =
+            balance::energy_created(scene, record, balance, totals_before, after, growth, cause);
+        Err(error)
     }
 
     /// Run to the stopping rule; `progress` sees every shot.

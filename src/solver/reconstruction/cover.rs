@@ -1,6 +1,6 @@
 //! What a reconstruction pass draws: aligned squares of whole 4×4 texel blocks covering the
 //! blocks it needs (found on a pyramid of block masks, `Cover::pyramid`), as points or triangle
-//! pairs (`Squares`).
+//! pairs (`Squares`); which blocks hold each polygon's patches (`patch_blocks`).
 //!
 //! Why squares and not the receivers' rectangles: a rectangle is two triangles, and llvmpipe
 //! shades every block its diagonal crosses once for each; a thin rectangle of lightmaps costs
@@ -9,6 +9,7 @@
 
 use crate::gl::objects::Attribute;
 use crate::gl::{Gl, GlError, Mesh};
+use crate::patches::PatchLayout;
 use glow::HasContext;
 
 /// Squares are made of whole blocks of 4×4 texels: llvmpipe shades a block of 4×4 fragments at a
@@ -253,9 +254,35 @@ impl Cover {
     }
 }
 
+/// Per polygon, the blocks (indices in rows of `wide`) that hold its patches, ascending, one
+/// list after another, and where each polygon's list starts (one more entry than polygons).
+pub(crate) fn patch_blocks(layout: &PatchLayout, wide: usize) -> (Vec<u32>, Vec<usize>) {
+    let width = layout.atlas_width as usize;
+    let b = BLOCK as usize;
+    // (polygon, block) of every patch texel; `owner` is the polygon ID + 1, 0 for no patch.
+    let mut pairs: Vec<(u32, u32)> = (layout.owner.iter().enumerate())
+        .filter(|&(_, &o)| o != 0)
+        .map(|(i, &o)| (o - 1, ((i / width / b) * wide + i % width / b) as u32))
+        .collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    let polygons = layout.patches_per_polygon.len();
+    let mut starts = vec![0; polygons + 1];
+    for &(p, _) in &pairs {
+        starts[p as usize + 1] += 1;
+    }
+    for p in 0..polygons {
+        starts[p + 1] += starts[p];
+    }
+    (pairs.into_iter().map(|(_, block)| block).collect(), starts)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::patches::Resolution;
+    use crate::scene::bundled;
+    use std::collections::BTreeSet;
 
     #[test]
     fn cover_draws_every_set_block_once_and_nothing_else() {
@@ -314,5 +341,76 @@ mod tests {
         assert_eq!(point[1], 0.5 * (lo[1] + hi[1]));
         assert_eq!(point[2], 16.0);
         assert_eq!((hi[0] - lo[0]) * 64.0 / 2.0, 16.0);
+    }
+
+    #[test]
+    fn each_polygon_lists_exactly_the_blocks_that_hold_its_patches() {
+        let (mut listed, mut in_rectangles) = (0, 0);
+        for scene in &bundled::ALL {
+            let scene = scene.load().unwrap();
+            let layout = PatchLayout::new(&scene, Resolution::Patches(4096)).without_gutters();
+            let wide = layout.atlas_width.div_ceil(BLOCK) as usize;
+            let (blocks, starts) = patch_blocks(&layout, wide);
+            let (width, b) = (layout.atlas_width as usize, BLOCK as usize);
+            for (p, [x0, y0, x1, y1]) in layout.texel_rects().into_iter().enumerate() {
+                let mine = &blocks[starts[p]..starts[p + 1]];
+                let expected: BTreeSet<u32> = (layout.owner.iter().enumerate())
+                    .filter(|&(_, &o)| o == p as u32 + 1)
+                    .map(|(i, _)| ((i / width) / b * wide + (i % width) / b) as u32)
+                    .collect();
+                assert_eq!(
+                    mine,
+                    expected.into_iter().collect::<Vec<_>>(),
+                    "polygon {p}"
+                );
+                listed += mine.len();
+                if layout.patches_per_polygon[p] > 0 {
+                    let (bx, by) = (
+                        x1.div_ceil(BLOCK) - x0 / BLOCK,
+                        y1.div_ceil(BLOCK) - y0 / BLOCK,
+                    );
+                    in_rectangles += (bx * by) as usize;
+                }
+            }
+        }
+        // The bundled scenes' lightmaps fill their rectangles' blocks.
+        assert_eq!(listed, in_rectangles);
+    }
+
+    #[test]
+    fn a_concave_polygon_lists_fewer_blocks_than_its_rectangle() {
+        // An L-shaped floor of three unit squares, merged into one polygon, under a small light:
+        // a quarter of its rectangle holds no patch.
+        let temp = tempfile::tempdir().unwrap();
+        let dir = temp.path();
+        std::fs::write(
+            dir.join("l.mtl"),
+            "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1 1 1\n",
+        )
+        .unwrap();
+        std::fs::write(
+            dir.join("l.obj"),
+            "mtllib l.mtl\nv 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 0 1\nv 1 0 1\nv 2 0 1\nv 0 0 2\n\
+             v 1 0 2\nv 0.4 1 0.4\nv 0.6 1 0.4\nv 0.6 1 0.6\nv 0.4 1 0.6\nusemtl floor\n\
+             f 1 4 5 2\nf 2 5 6 3\nf 4 7 8 5\nusemtl light\nf 9 10 11 12\n",
+        )
+        .unwrap();
+        let scene = crate::scene::load_obj(&dir.join("l.obj")).unwrap();
+        assert_eq!(scene.polygons.len(), 2, "the L merged into one polygon");
+        let layout = PatchLayout::new(&scene, Resolution::Patches(4096)).without_gutters();
+        let wide = layout.atlas_width.div_ceil(BLOCK) as usize;
+        let (_, starts) = patch_blocks(&layout, wide);
+        let floor = (0..2)
+            .max_by_key(|&p| layout.patches_per_polygon[p])
+            .unwrap();
+        let [x0, y0, x1, y1] = layout.texel_rects()[floor];
+        let rectangle = (x1.div_ceil(BLOCK) - x0 / BLOCK) * (y1.div_ceil(BLOCK) - y0 / BLOCK);
+        let listed = starts[floor + 1] - starts[floor];
+        // Three quarters of the rectangle, give or take the blocks along the inner edges.
+        let share = listed as f64 / rectangle as f64;
+        assert!(
+            (0.7..0.85).contains(&share),
+            "{listed} of {rectangle} blocks"
+        );
     }
 }

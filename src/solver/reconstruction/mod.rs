@@ -13,40 +13,38 @@
 //!
 //! The receivers are rasterised once, at initialisation, into atlas textures holding each patch's
 //! position, normal and reflectance (`patch_data.rs`, with the polygons' planes). What each pass
-//! draws, and with which program, is an `AtlasDraw` (`atlas_draw.rs`): the paper's draws every
-//! patch, as squares of whole 4×4 texel blocks (`cover.rs`), into renderbuffers cleared first,
-//! with the program of `programs.rs` and the texture units and uniforms of `uniforms.rs`. The
-//! llvmpipe engine's (`solver::engine`) draws only the receivers' blocks after a marking pass;
-//! the texels it leaves alone keep the renderbuffers' values, which the last copy also put into
-//! the textures. This file does not know it.
+//! draws, and with which program, is an `AtlasDraw` (below): the paper's `WholeAtlas` draws every
+//! patch, as squares of whole 4×4 texel blocks over the blocks that hold patches (`cover.rs`; a
+//! texel outside every patch stays as the clear left it), into renderbuffers cleared first, with
+//! the program of `programs.rs` and the texture units and uniforms below (`UNITS`, `Uniforms`).
+//! The llvmpipe engine's (`solver::engine`) draws only the receivers' blocks after a marking
+//! pass; the texels it leaves alone keep the renderbuffers' values, which the last copy also put
+//! into the textures. This file does not know it.
 //!
 //! Two attachments: 0 = radiosity + ΔL, 1 = unshot + ΔL (zero for the texels that shoot).
 
-mod atlas_draw;
 mod cover;
 mod patch_data;
 mod programs;
-mod uniforms;
 
-pub(crate) use atlas_draw::{
-    begin_squares, end_squares, patch_blocks, AtlasDraw, Pass, WholeAtlas,
-};
-pub(crate) use cover::{Squares, BLOCK};
+pub(crate) use cover::{patch_blocks, Squares, BLOCK};
 pub(crate) use patch_data::PolygonPlanes;
 pub use programs::ProgramVariants;
 pub(crate) use programs::{compile, fragment, Choices, Variants};
-pub(crate) use uniforms::{Uniforms, UNITS};
 
 use super::pass_names::{ACCUMULATION, INITIALISATION, RECONSTRUCTION};
 use super::visibility::VisibilityPass;
-use super::{Shooter, SolveOptions};
+use super::{FormFactorKind, Shooter, SolveOptions, VisibilityKind, MAX_SHOOTERS_PER_PASS};
 use crate::gl::faults::{self, Fault};
-use crate::gl::{Framebuffer, GlContext, GlError, Mesh, Renderbuffer, Texture, TextureFormat};
+use crate::gl::{
+    Framebuffer, Gl, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
+};
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
 use glow::HasContext;
 use patch_data::PatchData;
 use programs::Programs;
+use std::any::Any;
 
 /// The two lightmap atlases of section 3.1: accumulated and unshot radiance (RGBA32F, alpha =
 /// polygon ID + 1). The reconstruction pass samples them; the copies after it replace them.
@@ -446,5 +444,281 @@ impl ReconstructionPass {
             ctx.gl.bind_framebuffer(glow::FRAMEBUFFER, None);
         }
         ctx.check(ACCUMULATION)
+    }
+}
+
+/// What one reconstruction pass hands its draw: the programs, the uniforms of every slot, and
+/// what they were made from.
+pub(crate) struct Pass<'a> {
+    /// The pass's programs (the paper's and the emission).
+    pub programs: &'a Programs,
+    /// The uniforms of every slot of the programs (`shooters` and idle ones after them).
+    pub uniforms: &'a Uniforms<'a>,
+    /// The pass's shooters, one per item buffer of `visibility`.
+    pub shooters: &'a [Shooter],
+    /// The solve's options (for uniforms of fewer shooters).
+    pub options: &'a SolveOptions,
+    /// The polygons' planes (for uniforms of fewer shooters).
+    pub planes: &'a PolygonPlanes,
+    /// The item buffers.
+    pub visibility: &'a VisibilityPass,
+    /// Whether every shooter is a quadrilateral and the programs have the variant for them.
+    pub quad: bool,
+    /// The atlas's width and height, texels.
+    pub size: (i32, i32),
+}
+
+/// What a reconstruction pass draws and with which program: the whole atlas with the paper's
+/// program ([`WholeAtlas`]), or the llvmpipe engine's marked squares.
+pub(crate) trait AtlasDraw: Any {
+    /// A depth buffer the size of the atlas for the pass's FBO, if the draws test depth (the
+    /// engine's marking pass); the paper's draw has none.
+    fn depth(&self) -> Option<&Renderbuffer> {
+        None
+    }
+
+    /// Choose what the pass for `shooters` draws; `touched` gets the polygons it draws
+    /// (receivers and shooters). Whether it writes every texel of the atlas, so that the
+    /// renderbuffers can be cleared first.
+    fn select(
+        &mut self,
+        shooters: &[Shooter],
+        visibility: &VisibilityPass,
+        touched: &mut Vec<usize>,
+    ) -> bool;
+
+    /// Draw it into the bound renderbuffers, every texture on its unit.
+    fn draw(&mut self, ctx: &GlContext, pass: &Pass);
+
+    /// Take the unshot atlas read back after a shot (or after the emission); the paper's draw
+    /// does not look.
+    fn observe(&mut self, _unshot: &[f32]) {}
+
+    /// The squares the last pass drew (the pass proper's).
+    fn squares(&self) -> &Squares;
+
+    /// This draw as `Any`, for the engine to find its own.
+    fn as_any(&self) -> &dyn Any;
+}
+
+/// The paper's draw: every patch of the atlas, each pass, with the paper's program.
+pub(crate) struct WholeAtlas {
+    squares: Squares,
+    /// The blocks that hold patches of polygon p: `blocks[block_starts[p]..block_starts[p + 1]]`.
+    blocks: Vec<u32>,
+    block_starts: Vec<usize>,
+    /// The polygons that have patches.
+    with_patches: Vec<usize>,
+    /// Per 4×4 block of the atlas, row by row, 1 if the pass draws it.
+    drawn: Vec<u32>,
+    blocks_wide: usize,
+}
+
+impl WholeAtlas {
+    /// The draw for an atlas laid out as `layout`.
+    pub fn new(gl: &Gl, layout: &PatchLayout) -> Result<Self, GlError> {
+        let (width, height) = (layout.atlas_width as i32, layout.atlas_height as i32);
+        let blocks_wide = layout.atlas_width.div_ceil(BLOCK) as usize;
+        let (blocks, block_starts) = patch_blocks(layout, blocks_wide);
+        Ok(WholeAtlas {
+            squares: Squares::new(gl, width, height)?,
+            blocks,
+            block_starts,
+            with_patches: (0..layout.patches_per_polygon.len())
+                .filter(|&p| layout.patches_per_polygon[p] > 0)
+                .collect(),
+            drawn: vec![0; blocks_wide * layout.atlas_height.div_ceil(BLOCK) as usize],
+            blocks_wide,
+        })
+    }
+}
+
+impl AtlasDraw for WholeAtlas {
+    /// Every polygon with patches receives; the shooting texels are drawn too, to clear their
+    /// unshot energy.
+    fn select(
+        &mut self,
+        shooters: &[Shooter],
+        _visibility: &VisibilityPass,
+        touched: &mut Vec<usize>,
+    ) -> bool {
+        touched.clear();
+        self.drawn.fill(0);
+        for &p in &self.with_patches {
+            touched.push(p);
+            for &b in &self.blocks[self.block_starts[p]..self.block_starts[p + 1]] {
+                self.drawn[b as usize] = 1;
+            }
+        }
+        for s in shooters {
+            let [x0, y0, x1, y1] = s.texels;
+            for by in y0 / BLOCK..y1.div_ceil(BLOCK) {
+                let row = by as usize * self.blocks_wide;
+                let blocks = row + (x0 / BLOCK) as usize..row + x1.div_ceil(BLOCK) as usize;
+                self.drawn[blocks].fill(1);
+            }
+            if !touched.contains(&s.polygon) {
+                touched.push(s.polygon);
+            }
+        }
+        self.squares.build(&self.drawn, self.blocks_wide, false, 1);
+        true
+    }
+
+    fn draw(&mut self, ctx: &GlContext, pass: &Pass) {
+        begin_squares(ctx, &self.squares, pass.size);
+        let (first, count) = self.squares.run(0);
+        if count > 0 {
+            pass.uniforms.set(pass.programs.paper.get(pass.quad));
+            self.squares.draw(first, count);
+        }
+        end_squares(ctx);
+    }
+
+    fn squares(&self) -> &Squares {
+        &self.squares
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+/// Set the viewport and scissor for `squares` over an atlas of `size` texels (and points of any
+/// size, if drawn as points).
+pub(crate) fn begin_squares(ctx: &GlContext, squares: &Squares, size: (i32, i32)) {
+    let gl = &ctx.gl;
+    unsafe {
+        let (w, h) = squares.viewport;
+        gl.viewport(0, 0, w, h);
+        gl.enable(glow::SCISSOR_TEST);
+        gl.scissor(0, 0, size.0, size.1);
+        if squares.as_points() {
+            gl.enable(glow::PROGRAM_POINT_SIZE);
+        }
+    }
+}
+
+/// Undo `begin_squares` (and a marking pass's depth test).
+pub(crate) fn end_squares(ctx: &GlContext) {
+    let gl = &ctx.gl;
+    unsafe {
+        gl.disable(glow::PROGRAM_POINT_SIZE);
+        gl.disable(glow::DEPTH_TEST);
+        gl.disable(glow::SCISSOR_TEST);
+        gl.active_texture(glow::TEXTURE0);
+    }
+}
+
+/// The texture unit of each texture `glsl/reconstruct.frag` samples (named after its sampler).
+pub(crate) struct TextureUnits {
+    /// `HemiItemBuffer[k]`: shooter k's item buffer.
+    pub item_buffers: [u32; MAX_SHOOTERS_PER_PASS as usize],
+    /// `LightmapRadiosity`: the radiosity lightmap as the last copy left it.
+    pub lightmap_radiosity: u32,
+    /// `LightmapUnshot`: the unshot lightmap as the last copy left it.
+    pub lightmap_unshot: u32,
+    /// `PolygonPlanes`: each polygon's plane, for the robust test.
+    pub polygon_planes: u32,
+    /// `PatchPosition`, `PatchNormal`, `PatchReflectance`: the receivers' side of the factor.
+    pub patch_position: u32,
+    pub patch_normal: u32,
+    pub patch_reflectance: u32,
+}
+
+/// The pass's texture units: shooter 0's item buffer on unit 0 (the paper's one), the lightmaps,
+/// planes and patch data on 1 to 6, the other shooters' item buffers on 7 and up.
+pub(crate) const UNITS: TextureUnits = TextureUnits {
+    item_buffers: [0, 7, 8, 9, 10, 11, 12, 13],
+    lightmap_radiosity: 1,
+    lightmap_unshot: 2,
+    polygon_planes: 3,
+    patch_position: 4,
+    patch_normal: 5,
+    patch_reflectance: 6,
+};
+
+/// The uniforms of one pass, the shooters' as arrays of one element per shooter (the corners:
+/// `MAX_CORNERS` each), ready to be given to each program the pass draws with.
+pub(crate) struct Uniforms<'a> {
+    texels: Vec<i32>,
+    remainders: Vec<f32>,
+    hemi_res: Vec<i32>,
+    views: Vec<f32>,
+    positions: Vec<f32>,
+    normals: Vec<f32>,
+    energies: Vec<f32>,
+    ids: Vec<f32>,
+    corners: Vec<f32>,
+    corner_counts: Vec<i32>,
+    areas: Vec<f32>,
+    /// `UNITS.item_buffers` of the shooters.
+    item_units: Vec<i32>,
+    options: &'a SolveOptions,
+    planes: &'a PolygonPlanes,
+}
+
+/// `f`'s values for each of `shooters`, one after another: a uniform array's contents.
+fn per_shooter<T, const N: usize>(shooters: &[Shooter], f: impl Fn(&Shooter) -> [T; N]) -> Vec<T> {
+    shooters.iter().flat_map(f).collect()
+}
+
+impl<'a> Uniforms<'a> {
+    /// The uniforms for `shooters` (every slot of the programs filled) under `options`.
+    pub fn new(shooters: &[Shooter], options: &'a SolveOptions, planes: &'a PolygonPlanes) -> Self {
+        Uniforms {
+            texels: per_shooter(shooters, |s| s.texels.map(|t| t as i32)),
+            remainders: per_shooter(shooters, |s| s.remainder.to_array()),
+            hemi_res: per_shooter(shooters, |s| [s.hemi_res as i32]),
+            views: per_shooter(shooters, |s| s.view().to_cols_array()),
+            positions: per_shooter(shooters, |s| s.position.to_array()),
+            normals: per_shooter(shooters, |s| s.normal.to_array()),
+            energies: per_shooter(shooters, |s| s.energy.to_array()),
+            ids: per_shooter(shooters, |s| [s.polygon as f32]),
+            corners: (shooters.iter())
+                .flat_map(|s| s.corners.iter().flat_map(|v| v.to_array()))
+                .collect(),
+            corner_counts: per_shooter(shooters, |s| [s.corner_count as i32]),
+            areas: per_shooter(shooters, |s| [s.area]),
+            item_units: (UNITS.item_buffers[..shooters.len()].iter())
+                .map(|&u| u as i32)
+                .collect(),
+            options,
+            planes,
+        }
+    }
+
+    /// Use `p` and give it the uniforms: samplers, shooters, choices, planes.
+    pub fn set(&self, p: &Program) {
+        let unit = |u: u32| u as i32;
+        p.use_program();
+        p.set_i32("PatchPosition", unit(UNITS.patch_position));
+        p.set_i32("PatchNormal", unit(UNITS.patch_normal));
+        p.set_i32("PatchReflectance", unit(UNITS.patch_reflectance));
+        p.set_i32("LightmapRadiosity", unit(UNITS.lightmap_radiosity));
+        p.set_i32("LightmapUnshot", unit(UNITS.lightmap_unshot));
+        p.set_i32("PolygonPlanes", unit(UNITS.polygon_planes));
+        p.set_i32_array("HemiItemBuffer", &self.item_units);
+        p.set_ivec4_array("ShooterTexels", &self.texels);
+        p.set_vec3_array("ShooterRemainder", &self.remainders);
+        p.set_i32_array("HemiRes", &self.hemi_res);
+        p.set_mat4_array("ShooterView", &self.views);
+        p.set_vec3_array("ShootPos", &self.positions);
+        p.set_vec3_array("ShootNormal", &self.normals);
+        p.set_vec3_array("ShootEnergy", &self.energies);
+        p.set_f32_array("ShooterId", &self.ids);
+        p.set_vec3_array("ShootCorners", &self.corners);
+        p.set_i32_array("ShootCornerCount", &self.corner_counts);
+        p.set_f32_array("ShootArea", &self.areas);
+        let options = self.options;
+        let polygon = options.form_factor == FormFactorKind::Polygon;
+        p.set_i32("FormFactorKind", polygon as i32);
+        let hemicube = options.visibility == VisibilityKind::Hemicube;
+        p.set_i32("HemiCube", hemicube as i32);
+        p.set_i32("Robust", options.robust_visibility as i32);
+        let planes = &self.planes.texture;
+        p.set_i32("PlanesWidth", planes.width);
+        p.set_i32("PlanesShift", planes.width.trailing_zeros() as i32);
+        p.set_f32("PlaneSlack", self.planes.slack);
     }
 }

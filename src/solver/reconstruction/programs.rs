@@ -140,7 +140,7 @@ impl Programs {
         let gl = &ctx.gl;
         let compiled = variants.choices_compiled.then(|| Choices::of(options));
         let shooters = options.shooters_per_pass.max(1);
-        // The shooters' texture units (`uniforms::UNITS`) are counted out for so many.
+        // The shooters' texture units (`reconstruction::UNITS`) are counted out for so many.
         if shooters > MAX_SHOOTERS_PER_PASS {
             return Err(GlError::Limit(format!(
                 "{shooters} shooters per reconstruction pass; at most {MAX_SHOOTERS_PER_PASS}"
