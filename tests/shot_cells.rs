@@ -13,7 +13,7 @@ use common::*;
 use gpu_radiosity::pipeline;
 use gpu_radiosity::scene::Scene;
 use gpu_radiosity::solver::balance::TOLERANCE;
-use gpu_radiosity::solver::shooters::{max_cells, MIN_CELLS_PER_SHOT};
+use gpu_radiosity::solver::shooters::{max_cells, widened_cell, MIN_CELLS_PER_SHOT};
 use gpu_radiosity::solver::{GpuSolver, SolveOptions};
 
 /// One shot of `scene`'s emitter with the default, its cells capped at `shot_triangles` (0: no
@@ -128,11 +128,22 @@ fn a_capped_emitter_casts_the_same_shadow_within_a_few_percent() {
 /// The Cornell box's floor holding `remainder + delta` unshot radiance on every patch, the
 /// emitters as they start; its shooters.
 fn floor_shooters(delta_share: f64) -> (usize, f64, Vec<gpu_radiosity::solver::Shooter>) {
+    floor_shooters_capped(delta_share, SolveOptions::accurate().shot_triangles)
+}
+
+/// [`floor_shooters`] with the cells capped at `shot_triangles`.
+fn floor_shooters_capped(
+    delta_share: f64,
+    shot_triangles: u64,
+) -> (usize, f64, Vec<gpu_radiosity::solver::Shooter>) {
     use gpu_radiosity::solver::overshoot::Overshoot;
     use gpu_radiosity::solver::CpuSolver;
     let scene = load("cornell");
     let layout = pipeline::lay_out(&scene, None, None).unwrap();
-    let options = SolveOptions::accurate();
+    let options = SolveOptions {
+        shot_triangles,
+        ..SolveOptions::accurate()
+    };
     assert!(options.overshoot);
     let mut solver = CpuSolver::new(&scene, &layout, options, 1).unwrap();
     // The largest polygon facing up that does not emit: the floor, which the blocks stand on.
@@ -189,6 +200,38 @@ fn a_shot_is_cut_by_what_it_carries_not_by_what_its_polygon_holds() {
     assert!(held > 10.0 * options.cut_above as f64, "{held}");
     assert!(small.len() <= coarse as usize, "{}", small.len());
     assert!(large.len() > ordinary as usize, "{}", large.len());
+}
+
+#[test]
+fn a_capped_shots_cuts_add_at_most_the_cap() {
+    // The floor's shot of 3 % is cut where the blocks' planes cross its cells. Held to the
+    // fewest cells allowed, the cuts may add at most that many parts more (issue 58: the
+    // conference room's capped shots were cut into seven to twenty times their cells).
+    let scene = load("cornell");
+    let cap = MIN_CELLS_PER_SHOT as usize;
+    let (floor, _, free) = floor_shooters(0.03);
+    let (_, _, held) = floor_shooters_capped(0.03, tightest_cap(&scene));
+    let layout = pipeline::lay_out(&scene, None, None).unwrap();
+    let lm = &layout.lightmaps[floor];
+    let options = SolveOptions::accurate();
+    let cell = widened_cell(lm.w, lm.h, options.shooter_cell, cap as u32);
+    let cells = (lm.w.div_ceil(cell) * lm.h.div_ceil(cell)) as usize;
+    println!(
+        "floor {floor}: {}x{} patches; cells of {cell}: {cells}; {} shooters uncapped, {} held to \
+         {cap} cells",
+        lm.w,
+        lm.h,
+        free.len(),
+        held.len()
+    );
+    assert!(held.len() <= cells + cap, "{}", held.len());
+    assert!(held.len() > cells, "the cuts still come: {}", held.len());
+    assert!(
+        free.len() > held.len(),
+        "{} against {}",
+        free.len(),
+        held.len()
+    );
 }
 
 /// The cap changes no shipped scene's shots: at their own resolution, no polygon of the

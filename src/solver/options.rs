@@ -120,8 +120,10 @@ pub struct SolveOptions {
     /// Beyond the paper, for large shooters in scenes of many triangles: a polygon's shot has
     /// at most this many triangles over the scene's triangle count cells (at least
     /// `shooters::MIN_CELLS_PER_SHOT`), wider cells where its own would be more
-    /// (`shooters::widened_cell`): each cell is a visibility pass of the whole scene. 0: no
-    /// limit.
+    /// (`shooters::widened_cell`): each cell is a visibility pass of the whole scene; and the
+    /// cuts where a touching polygon's plane crosses a cell add at most as many parts again
+    /// (`shooters::cell_parts`); shots below `cut_above` have fewer cells in proportion to what
+    /// they carry, at least `MIN_CELLS_PER_SHOT` (`shooters::shot_cap`). 0: no limit.
     pub shot_triangles: u64,
     /// Beyond the paper, for fewer shots on curved surfaces of many small faces: a small
     /// polygon shoots with the largest cluster of touching non-coplanar neighbours around it

@@ -497,7 +497,7 @@ impl<'a, B: Backend> Solver<'a, B> {
             self.ledger.totals(),
             p,
             cells,
-            self.max_cells,
+            shooters::shot_cap(self.max_cells, share, self.options.cut_above),
         );
         for s in &mut shooters {
             if let Some(remainder) = remainder {

@@ -109,6 +109,24 @@ pub fn max_cells(scene: &Scene, shot_triangles: u64) -> u32 {
         .clamp(MIN_CELLS_PER_SHOT as u64, u32::MAX as u64) as u32
 }
 
+/// The most cells a shot carrying `share` of the emitted power is divided into before cutting:
+/// the scene's `max_cells` ([`max_cells`]) for shots of at least `cut_above`, fewer for smaller
+/// ones in proportion to what they carry, never fewer than [`MIN_CELLS_PER_SHOT`]. Beyond the
+/// paper, as the cap is. Why: overshooting has a large polygon take back its remainder in many
+/// small shots, and the conference room's ceiling light, shooting 0.01–0.05 % of the emitted
+/// power from 126 to 286 cells and parts a time, took 271 of a 600 s run's seconds. A shot's
+/// error from its cells' sampling grows with what it carries. A shot whose cells and cuts stay
+/// within [`MIN_CELLS_PER_SHOT`] (such shots' coarse cells are 16 × 16 patches) shoots as before,
+/// as does every shot of the Cornell box, the Table 1 rooms and Lost Empire (lightmaps the same
+/// byte for byte); without a cap (`shot_triangles` 0) there is none.
+pub fn shot_cap(max_cells: u32, share: f64, cut_above: f32) -> u32 {
+    if max_cells == u32::MAX || cut_above <= 0.0 || share.abs() >= cut_above as f64 {
+        return max_cells;
+    }
+    let scaled = (max_cells as f64 * share.abs() / cut_above as f64).ceil() as u32;
+    scaled.clamp(MIN_CELLS_PER_SHOT.min(max_cells), max_cells)
+}
+
 /// The side of the cells of a polygon whose lightmap is `w` × `h` patches: `cell`, or wider
 /// where that would give more than `max_cells` cells ([`max_cells`]). Beyond the paper, as cells
 /// are. Why: each cell is a visibility pass of the whole scene, and the conference room's light,
@@ -179,45 +197,44 @@ pub fn shooters_of(
         let texel = &unshot[at..at + 4];
         (texel[3] as usize == p + 1).then(|| [texel[0], texel[1], texel[2]])
     };
-    let mut shooters = Vec::new();
+    let mut cells = Vec::new();
     for y0 in (0..lm.h).step_by(cell as usize) {
         for x0 in (0..lm.w).step_by(cell as usize) {
-            let rect = [x0, y0, (x0 + cell).min(lm.w), (y0 + cell).min(lm.h)];
-            for part in cell_parts(scene, p, lm, rect, &texel, finest) {
-                let [x0, y0, x1, y1] = part.rect;
-                let Some((mut position, energy)) = part_energy(lm, &part, &texel, patch_area)
-                else {
-                    continue;
-                };
-                if cell != own {
-                    position = stratified_point(lm, &part, &texel, [p as u32, x0, y0]);
-                }
-                // The rectangle clipped to the polygon; the rectangle itself where the polygon is
-                // not convex or the clip has too many corners.
-                let rect = rectangle(
-                    Vec2::new(x0 as f32, y0 as f32),
-                    Vec2::new(x1 as f32, y1 as f32),
-                );
-                let clipped = clip_convex(&rect, &outline)
-                    .filter(|c| c.len() >= 3 && c.len() <= MAX_CORNERS && signed_area(c) > 0.0);
-                let (corners, corner_count, area) =
-                    world_outline(lm, clipped.as_deref().unwrap_or(&rect));
-                shooters.push(Shooter {
-                    polygon: p,
-                    texels: [lm.x + x0, lm.y + y0, lm.x + x1, lm.y + y1],
-                    position,
-                    normal: polygon.normal,
-                    energy,
-                    corners,
-                    corner_count,
-                    area,
-                    patches: part.patches.len() as u32,
-                    remainder: Vec3::ZERO,
-                    hemi_res: options.hemi_res,
-                    turn: 0.0,
-                });
-            }
+            cells.push([x0, y0, (x0 + cell).min(lm.w), (y0 + cell).min(lm.h)]);
         }
+    }
+    let mut shooters = Vec::new();
+    for part in cell_parts(scene, p, lm, cells, &texel, finest, max_cells) {
+        let [x0, y0, x1, y1] = part.rect;
+        let Some((mut position, energy)) = part_energy(lm, &part, &texel, patch_area) else {
+            continue;
+        };
+        if cell != own {
+            position = stratified_point(lm, &part, &texel, [p as u32, x0, y0]);
+        }
+        // The rectangle clipped to the polygon; the rectangle itself where the polygon is
+        // not convex or the clip has too many corners.
+        let rect = rectangle(
+            Vec2::new(x0 as f32, y0 as f32),
+            Vec2::new(x1 as f32, y1 as f32),
+        );
+        let clipped = clip_convex(&rect, &outline)
+            .filter(|c| c.len() >= 3 && c.len() <= MAX_CORNERS && signed_area(c) > 0.0);
+        let (corners, corner_count, area) = world_outline(lm, clipped.as_deref().unwrap_or(&rect));
+        shooters.push(Shooter {
+            polygon: p,
+            texels: [lm.x + x0, lm.y + y0, lm.x + x1, lm.y + y1],
+            position,
+            normal: polygon.normal,
+            energy,
+            corners,
+            corner_count,
+            area,
+            patches: part.patches.len() as u32,
+            remainder: Vec3::ZERO,
+            hemi_res: options.hemi_res,
+            turn: 0.0,
+        });
     }
     // The order of the parts does not change the result but keeps it easy to follow (row by row).
     shooters.sort_by_key(|s| (s.texels[1], s.texels[0]));
@@ -231,7 +248,7 @@ struct Part {
     rect: [u32; 4],
 }
 
-/// The parts of the cell `rect` of polygon `p` that shoot on their own.
+/// The parts of the cells `cells` of polygon `p` that shoot on their own.
 ///
 /// A cell shoots from one point, so everything it sends passes the visibility test of that
 /// point. Where the plane of a nearby polygon cuts through the cell (a block standing on the
@@ -243,6 +260,15 @@ struct Part {
 /// area count (`crossed`): a book beside a wall's cell sees little of it either way, and cutting
 /// for every small face made the simple room's walls shoot from a hundred parts each.
 ///
+/// The cuts are made level by level (every crossed cell into quarters, then every crossed
+/// quarter, …), and only while the parts stay within `max_cells` more than the cells (in a
+/// level that does not fit whole, the crossed rectangles that carry the most go first)
+/// ([`max_cells`]; beyond the paper, as the cap is): each part is a visibility pass of the whole
+/// scene, and the conference room's first shots, their cells held to 151, were cut into 1,065 to
+/// 3,174 parts (issue 58: 4 shots in 300 s; held, 461). Where the cuts stay within that, as in
+/// every shipped scene (whose caps are 1,000 cells or more), every crossed part is cut as
+/// before, and the shooters are the same.
+///
 /// Patches of both signs (left by overshooting) shoot apart, so that neither cancels the other;
 /// patches with nothing to shoot go with the positive ones (the part's texels are cleared
 /// together, to their remainder when overshooting, so every patch must belong to a part). A part
@@ -251,50 +277,77 @@ fn cell_parts(
     scene: &Scene,
     p: usize,
     lm: &Lightmap,
-    rect: [u32; 4],
+    cells: Vec<[u32; 4]>,
     texel: &impl Fn(u32, u32) -> Option<[f32; 3]>,
     finest: Option<u32>,
+    max_cells: u32,
 ) -> Vec<Part> {
+    let budget = (cells.len() as u64).saturating_add(max_cells as u64);
     let mut parts = Vec::new();
-    let mut rects = vec![rect];
-    while let Some(rect) = rects.pop() {
-        let [x0, y0, x1, y1] = rect;
-        let (mut positive, mut negative, mut lit) = (Vec::new(), Vec::new(), false);
-        for t in y0..y1 {
-            for s in x0..x1 {
-                match texel(s, t).map(|v| v[0] + v[1] + v[2]) {
-                    Some(sum) if sum < 0.0 => negative.push((s, t)),
-                    Some(sum) => {
-                        lit |= sum > 0.0;
-                        positive.push((s, t));
+    let mut level = cells;
+    while !level.is_empty() {
+        // The rectangles of this level that shoot something, with their patches by sign.
+        let mut live = Vec::new();
+        for rect in level {
+            let [x0, y0, x1, y1] = rect;
+            let (mut positive, mut negative, mut lit) = (Vec::new(), Vec::new(), false);
+            let mut weight = 0f32;
+            for t in y0..y1 {
+                for s in x0..x1 {
+                    match texel(s, t).map(|v| v[0] + v[1] + v[2]) {
+                        Some(sum) if sum < 0.0 => {
+                            weight -= sum;
+                            negative.push((s, t));
+                        }
+                        Some(sum) => {
+                            lit |= sum > 0.0;
+                            weight += sum;
+                            positive.push((s, t));
+                        }
+                        None => {}
                     }
-                    None => {}
+                }
+            }
+            if lit || !negative.is_empty() {
+                let cuttable = finest.is_some_and(|side| x1 - x0 > side || y1 - y0 > side);
+                let cut = cuttable && crossed(scene, p, lm, rect);
+                live.push((rect, positive, negative, cut, weight));
+            }
+        }
+        // The crossed rectangles of this level whose quarters fit the budget are cut, those
+        // that carry the most first (each cut adds at most three parts).
+        let room = budget.saturating_sub(parts.len() as u64 + live.len() as u64) / 3;
+        let mut crossings: Vec<usize> = (0..live.len()).filter(|&i| live[i].3).collect();
+        if crossings.len() as u64 > room {
+            crossings.sort_by(|&i, &j| live[j].4.total_cmp(&live[i].4).then(i.cmp(&j)));
+            for &i in &crossings[room as usize..] {
+                live[i].3 = false;
+            }
+        }
+        let mut next = Vec::new();
+        for (rect, positive, negative, cut, _) in live {
+            if cut {
+                let [x0, y0, x1, y1] = rect;
+                let (xm, ym) = ((x0 + x1).div_ceil(2), (y0 + y1).div_ceil(2));
+                for [a, b, c, d] in [
+                    [x0, y0, xm, ym],
+                    [xm, y0, x1, ym],
+                    [x0, ym, xm, y1],
+                    [xm, ym, x1, y1],
+                ] {
+                    if a < c && b < d {
+                        next.push([a, b, c, d]);
+                    }
+                }
+                continue;
+            }
+            for patches in [positive, negative] {
+                if !patches.is_empty() {
+                    parts.push(Part { patches, rect });
                 }
             }
         }
-        if !lit && negative.is_empty() {
-            continue;
-        }
-        let cuttable = finest.is_some_and(|side| x1 - x0 > side || y1 - y0 > side);
-        if cuttable && crossed(scene, p, lm, rect) {
-            let (xm, ym) = ((x0 + x1).div_ceil(2), (y0 + y1).div_ceil(2));
-            for [a, b, c, d] in [
-                [x0, y0, xm, ym],
-                [xm, y0, x1, ym],
-                [x0, ym, xm, y1],
-                [xm, ym, x1, y1],
-            ] {
-                if a < c && b < d {
-                    rects.push([a, b, c, d]);
-                }
-            }
-            continue;
-        }
-        for patches in [positive, negative] {
-            if !patches.is_empty() {
-                parts.push(Part { patches, rect });
-            }
-        }
+        level = next;
     }
     parts
 }
@@ -414,6 +467,20 @@ fn aabb_gap((a_lo, a_hi): (Vec3, Vec3), (b_lo, b_hi): (Vec3, Vec3)) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn small_shots_are_held_to_fewer_cells_in_proportion_never_below_the_floor() {
+        // The conference room's cap, 151 cells; cut_above 0.3 %.
+        assert_eq!(shot_cap(151, 0.5, 0.003), 151);
+        assert_eq!(shot_cap(151, 0.003, 0.003), 151);
+        assert_eq!(shot_cap(151, -0.0015, 0.003), 76);
+        assert_eq!(shot_cap(151, 0.0002, 0.003), MIN_CELLS_PER_SHOT);
+        // No cap, or no cut_above: as before.
+        assert_eq!(shot_cap(u32::MAX, 1e-9, 0.003), u32::MAX);
+        assert_eq!(shot_cap(151, 1e-9, 0.0), 151);
+        // A scene's cap below the floor (none: max_cells is at least the floor) stays.
+        assert_eq!(shot_cap(10, 1e-9, 0.003), 10);
+    }
 
     #[test]
     fn cells_widen_only_past_the_cap() {
