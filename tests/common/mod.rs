@@ -7,7 +7,7 @@ use glam::{Vec2, Vec3};
 use gpu_radiosity::geometry::{flatten, point_in_polygon};
 use gpu_radiosity::gl::{BackendChoice, GlContext};
 use gpu_radiosity::patches::{PatchLayout, Resolution};
-use gpu_radiosity::scene::{load_obj, Polygon, Scene};
+use gpu_radiosity::scene::{load_obj, Material, Polygon, Scene};
 use std::path::PathBuf;
 
 pub fn scene_path(name: &str) -> PathBuf {
@@ -286,4 +286,41 @@ pub fn snapshot(dir: &std::path::Path) -> std::collections::BTreeMap<String, Vec
             (name, std::fs::read(e.path()).unwrap_or_default())
         })
         .collect()
+}
+
+/// A scene of `polygons` with one material, `lamp` (reflects 0.5, emits 1): the property and
+/// fuzz-regression tests' scenes.
+pub fn scene_of(polygons: Vec<Polygon>) -> Scene {
+    Scene {
+        name: "prop".into(),
+        polygons,
+        materials: vec![Material {
+            name: "lamp".into(),
+            kd: Vec3::splat(0.5),
+            ke: Vec3::ONE,
+        }],
+        vertex_count: 0,
+        camera: None,
+        patch_size: None,
+        skipped_degenerate: 0,
+        faces: 0,
+    }
+}
+
+/// The MTL of [`load_text`]'s scenes: `lamp`, as [`scene_of`]'s material.
+pub const LAMP_MTL: &str = "newmtl lamp\nKd 0.5 0.5 0.5\nKe 1 1 1\n";
+
+/// Writes an OBJ (and MTL) into a temporary directory and loads it.
+pub fn load_text(
+    obj: impl AsRef<[u8]>,
+    mtl: impl AsRef<[u8]>,
+) -> (
+    tempfile::TempDir,
+    Result<Scene, gpu_radiosity::scene::SceneError>,
+) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(dir.path().join("s.obj"), obj).unwrap();
+    std::fs::write(dir.path().join("m.mtl"), mtl).unwrap();
+    let scene = load_obj(&dir.path().join("s.obj"));
+    (dir, scene)
 }
