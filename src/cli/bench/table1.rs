@@ -465,8 +465,9 @@ fn report(
              per shot, as in the paper), polygon form factor, {}² hemicube; default: `radiosity \
              solve`'s settings (cells of 4×4 patches, overshooting, the item buffer by shot and \
              turned, {} shooters per pass); whole polygons: the default's speed options with \
-             whole polygons shooting; every configuration scales back a shot that delivered more \
-             than it carried; median of {} run(s)",
+             whole polygons shooting; the default and whole polygons scale back a shot that \
+             delivered more than it carried, the paper-faithful row only reports it, as the paper \
+             has no such step; median of {} run(s)",
             args.threshold,
             crate::solver::BENCH_HEMI_RES,
             crate::solver::MAX_SHOOTERS_PER_PASS,
