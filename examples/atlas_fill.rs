@@ -10,7 +10,7 @@
 use gpu_radiosity::pipeline;
 use std::path::Path;
 
-/// Texels per side of the blocks llvmpipe shades at a time (`reconstruction::cover::BLOCK`).
+/// Texels per side of the blocks llvmpipe shades at a time (`engine::cover::BLOCK`).
 const BLOCK: usize = 4;
 
 fn main() -> anyhow::Result<()> {

@@ -6,6 +6,7 @@
 //! alone keep the renderbuffers' values, which the last copy also put into the textures. Every
 //! switch it reads is documented in [`Tuning`]; the same sums, bit for bit.
 
+use super::cover::{begin_squares, end_squares, Squares};
 use super::lit_share::LitShare;
 use super::marked_programs::MarkedPrograms;
 use super::receivers::Receivers;
@@ -13,9 +14,7 @@ use super::seen_receivers::Reach;
 use crate::gl::{GlContext, GlError, Renderbuffer};
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
-use crate::solver::reconstruction::{
-    begin_squares, end_squares, AtlasDraw, Pass, Squares, Uniforms, UNITS,
-};
+use crate::solver::reconstruction::{AtlasDraw, Pass, Uniforms, UNITS};
 use crate::solver::visibility::VisibilityPass;
 use crate::solver::{Shooter, SolveOptions, Tuning};
 use glow::HasContext;
@@ -335,6 +334,13 @@ impl MarkedSquares {
     }
 }
 
+impl MarkedSquares {
+    /// The squares the last pass drew.
+    pub fn squares(&self) -> &Squares {
+        &self.squares
+    }
+}
+
 impl AtlasDraw for MarkedSquares {
     fn depth(&self) -> Option<&Renderbuffer> {
         Some(&self.marks_depth)
@@ -395,8 +401,8 @@ impl AtlasDraw for MarkedSquares {
         }
     }
 
-    fn squares(&self) -> &Squares {
-        &self.squares
+    fn texels_drawn(&self) -> usize {
+        self.squares.texels()
     }
 
     fn as_any(&self) -> &dyn Any {

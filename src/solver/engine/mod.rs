@@ -16,6 +16,7 @@
 //! paper's parts where it asks for nothing of the engine.
 
 mod box_tree;
+mod cover;
 pub mod culled_views;
 pub mod culling;
 mod lit_share;
@@ -169,7 +170,7 @@ pub fn after_emission(
     let tuning = &options.tuning;
     if tuning.walk_receivers() && options.visibility == VisibilityKind::Hemicube {
         let positions = reconstruction.patch_positions();
-        let block = ReconstructionPass::BLOCK as usize;
+        let block = cover::BLOCK as usize;
         visibility.use_seen_receivers(SeenReceivers::new(scene, &positions, width, block));
     }
 }
@@ -209,6 +210,19 @@ impl ReconstructionPass {
     /// The engine's draw, if this pass has it.
     fn engine(&self) -> Option<&MarkedSquares> {
         self.atlas_draw().as_any().downcast_ref()
+    }
+
+    /// The squares the last pass drew with the clipping shader and with the one that does not
+    /// clip (none without the engine's draw).
+    pub fn squares_drawn(&self) -> (usize, usize) {
+        self.engine().map_or((0, 0), |e| e.squares().drawn())
+    }
+
+    /// Whether the last pass drew its squares as points (`Tuning::squares_as_points`, where the
+    /// driver's points are large enough) rather than as triangle pairs (the paper's draw:
+    /// rectangles of triangle pairs).
+    pub fn drew_points(&self) -> bool {
+        self.engine().is_some_and(|e| e.squares().as_points())
     }
 
     /// Passes drawn with the marking pass so far (`Tuning::marking_below` decides each).

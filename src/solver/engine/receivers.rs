@@ -4,11 +4,11 @@
 //! whole of their lightmap rectangles), with which shader: the CPU half of the reconstruction
 //! pass, run before each draw.
 
+use super::cover::{patch_blocks, BLOCK};
 use super::seen_receivers::Reach;
 use crate::geometry::sphere_around;
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
-use crate::solver::reconstruction::{patch_blocks, BLOCK};
 use crate::solver::{Shooter, Tuning};
 use glam::Vec3;
 

@@ -14,8 +14,8 @@
 //! The receivers are rasterised once, at initialisation, into atlas textures holding each patch's
 //! position, normal and reflectance (`patch_data.rs`, with the polygons' planes). What each pass
 //! draws, and with which program, is an `AtlasDraw` (below): the paper's `WholeAtlas` draws every
-//! patch, as squares of whole 4×4 texel blocks over the blocks that hold patches (`cover.rs`; a
-//! texel outside every patch stays as the clear left it), into renderbuffers cleared first, with
+//! receiver onto its lightmap rectangle (a texel outside every rectangle stays as the clear left
+//! it), into renderbuffers cleared first, with
 //! the program of `programs.rs` and the texture units and uniforms below (`UNITS`, `Uniforms`).
 //! The llvmpipe engine's (`solver::engine`) draws only the receivers' blocks after a marking
 //! pass; the texels it leaves alone keep the renderbuffers' values, which the last copy also put
@@ -23,11 +23,9 @@
 //!
 //! Two attachments: 0 = radiosity + ΔL, 1 = unshot + ΔL (zero for the texels that shoot).
 
-mod cover;
 mod patch_data;
 mod programs;
 
-pub(crate) use cover::{patch_blocks, Squares, BLOCK};
 pub(crate) use patch_data::PolygonPlanes;
 pub use programs::ProgramVariants;
 pub(crate) use programs::{compile, fragment, Choices, Variants};
@@ -36,6 +34,7 @@ use super::pass_names::{ACCUMULATION, INITIALISATION, RECONSTRUCTION};
 use super::visibility::VisibilityPass;
 use super::{FormFactorKind, Shooter, SolveOptions, VisibilityKind, MAX_SHOOTERS_PER_PASS};
 use crate::gl::faults::{self, Fault};
+use crate::gl::objects::Attribute;
 use crate::gl::{
     Framebuffer, Gl, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
 };
@@ -169,9 +168,6 @@ pub struct ReconstructionPass {
 }
 
 impl ReconstructionPass {
-    /// The side of the square blocks of texels the pass draws whole.
-    pub const BLOCK: u32 = cover::BLOCK;
-
     /// The paper's pass for `scene` laid out as `layout`: every patch drawn each pass with the
     /// one program, for `options.shooters_per_pass` shooters a pass.
     pub fn paper(
@@ -328,12 +324,6 @@ impl ReconstructionPass {
         self.patches.bind(position, normal, reflectance);
     }
 
-    /// The squares the last pass drew with the clipping shader and with the one that does not
-    /// clip.
-    pub fn squares_drawn(&self) -> (usize, usize) {
-        self.draw.squares().drawn()
-    }
-
     /// Take the unshot atlas read back after a shot (or, the first time, after the emission),
     /// for the draw to watch (the engine's marking rule; the paper's does not look).
     pub fn observe(&mut self, unshot: &[f32]) {
@@ -347,15 +337,9 @@ impl ReconstructionPass {
         positions
     }
 
-    /// How many texels the last pass's squares covered.
+    /// How many texels the last pass drew.
     pub fn texels_drawn(&self) -> usize {
-        self.draw.squares().texels()
-    }
-
-    /// Whether the last pass drew its squares as points (`Tuning::squares_as_points`, where the
-    /// driver's points are large enough) rather than as triangle pairs.
-    pub fn drew_points(&self) -> bool {
-        self.draw.squares().as_points()
+        self.draw.texels_drawn()
     }
 
     /// Each polygon's lightmap rectangle [x0, y0, x1, y1) in the atlas.
@@ -494,119 +478,96 @@ pub(crate) trait AtlasDraw: Any {
     /// does not look.
     fn observe(&mut self, _unshot: &[f32]) {}
 
-    /// The squares the last pass drew (the pass proper's).
-    fn squares(&self) -> &Squares;
+    /// How many texels the last pass drew (the pass proper's).
+    fn texels_drawn(&self) -> usize;
 
     /// This draw as `Any`, for the engine to find its own.
     fn as_any(&self) -> &dyn Any;
 }
 
-/// The paper's draw: every patch of the atlas, each pass, with the paper's program.
+/// The paper's draw: every receiver drawn onto its lightmap rectangle, each pass, with the paper's
+/// program. Every polygon with patches receives, and the shooters' texels lie in their polygons'
+/// rectangles, so the shooting texels are drawn too (to clear their unshot energy).
 pub(crate) struct WholeAtlas {
-    squares: Squares,
-    /// The blocks that hold patches of polygon p: `blocks[block_starts[p]..block_starts[p + 1]]`.
-    blocks: Vec<u32>,
-    block_starts: Vec<usize>,
-    /// The polygons that have patches.
-    with_patches: Vec<usize>,
-    /// Per 4×4 block of the atlas, row by row, 1 if the pass draws it.
-    drawn: Vec<u32>,
-    blocks_wide: usize,
+    /// Two triangles over each receiver's lightmap rectangle, in clip space: made once, since
+    /// the paper draws the same receivers every pass.
+    rectangles: Mesh,
+    /// The polygons with patches, and per polygon whether it is one of them.
+    receivers: Vec<usize>,
+    receives: Vec<bool>,
+    /// Texels the rectangles cover.
+    texels: usize,
 }
 
 impl WholeAtlas {
     /// The draw for an atlas laid out as `layout`.
     pub fn new(gl: &Gl, layout: &PatchLayout) -> Result<Self, GlError> {
-        let (width, height) = (layout.atlas_width as i32, layout.atlas_height as i32);
-        let blocks_wide = layout.atlas_width.div_ceil(BLOCK) as usize;
-        let (blocks, block_starts) = patch_blocks(layout, blocks_wide);
+        let receives: Vec<bool> = (layout.patches_per_polygon.iter())
+            .map(|&n| n > 0)
+            .collect();
+        let receivers: Vec<usize> = (0..receives.len()).filter(|&p| receives[p]).collect();
+        let size = (layout.atlas_width as f32, layout.atlas_height as f32);
+        let ndc = |t: u32, extent: f32| t as f32 / extent * 2.0 - 1.0;
+        let (mut vertices, mut texels) = (Vec::new(), 0);
+        for &p in &receivers {
+            let [x0, y0, x1, y1] = layout.lightmaps[p].texels();
+            texels += ((x1 - x0) * (y1 - y0)) as usize;
+            let (u0, v0, u1, v1) = (
+                ndc(x0, size.0),
+                ndc(y0, size.1),
+                ndc(x1, size.0),
+                ndc(y1, size.1),
+            );
+            for [u, v] in [[u0, v0], [u1, v0], [u1, v1], [u0, v0], [u1, v1], [u0, v1]] {
+                // glsl/atlas.vert's Corner, and its Size (points only).
+                vertices.extend_from_slice(&[u, v, 0.0]);
+            }
+        }
+        let corner = |location, size, offset| Attribute {
+            location,
+            size,
+            offset,
+        };
+        let rectangles = Mesh::new(gl, &vertices, 3, &[corner(0, 2, 0), corner(1, 1, 2)])?;
         Ok(WholeAtlas {
-            squares: Squares::new(gl, width, height)?,
-            blocks,
-            block_starts,
-            with_patches: (0..layout.patches_per_polygon.len())
-                .filter(|&p| layout.patches_per_polygon[p] > 0)
-                .collect(),
-            drawn: vec![0; blocks_wide * layout.atlas_height.div_ceil(BLOCK) as usize],
-            blocks_wide,
+            rectangles,
+            receivers,
+            receives,
+            texels,
         })
     }
 }
 
 impl AtlasDraw for WholeAtlas {
-    /// Every polygon with patches receives; the shooting texels are drawn too, to clear their
-    /// unshot energy.
     fn select(
         &mut self,
         shooters: &[Shooter],
         _visibility: &VisibilityPass,
         touched: &mut Vec<usize>,
     ) -> bool {
-        touched.clear();
-        self.drawn.fill(0);
-        for &p in &self.with_patches {
-            touched.push(p);
-            for &b in &self.blocks[self.block_starts[p]..self.block_starts[p + 1]] {
-                self.drawn[b as usize] = 1;
-            }
-        }
+        touched.clone_from(&self.receivers);
+        // A shooter without patches of its own (none in the paper) has no texels to clear.
         for s in shooters {
-            let [x0, y0, x1, y1] = s.texels;
-            for by in y0 / BLOCK..y1.div_ceil(BLOCK) {
-                let row = by as usize * self.blocks_wide;
-                let blocks = row + (x0 / BLOCK) as usize..row + x1.div_ceil(BLOCK) as usize;
-                self.drawn[blocks].fill(1);
-            }
-            if !touched.contains(&s.polygon) {
+            if !self.receives[s.polygon] && !touched.contains(&s.polygon) {
                 touched.push(s.polygon);
             }
         }
-        self.squares.build(&self.drawn, self.blocks_wide, false, 1);
         true
     }
 
     fn draw(&mut self, ctx: &GlContext, pass: &Pass) {
-        begin_squares(ctx, &self.squares, pass.size);
-        let (first, count) = self.squares.run(0);
-        if count > 0 {
-            pass.uniforms.set(pass.programs.paper.get(pass.quad));
-            self.squares.draw(first, count);
-        }
-        end_squares(ctx);
+        unsafe { ctx.gl.viewport(0, 0, pass.size.0, pass.size.1) };
+        pass.uniforms.set(pass.programs.paper.get(pass.quad));
+        self.rectangles.draw();
+        unsafe { ctx.gl.active_texture(glow::TEXTURE0) };
     }
 
-    fn squares(&self) -> &Squares {
-        &self.squares
+    fn texels_drawn(&self) -> usize {
+        self.texels
     }
 
     fn as_any(&self) -> &dyn Any {
         self
-    }
-}
-
-/// Set the viewport and scissor for `squares` over an atlas of `size` texels (and points of any
-/// size, if drawn as points).
-pub(crate) fn begin_squares(ctx: &GlContext, squares: &Squares, size: (i32, i32)) {
-    let gl = &ctx.gl;
-    unsafe {
-        let (w, h) = squares.viewport;
-        gl.viewport(0, 0, w, h);
-        gl.enable(glow::SCISSOR_TEST);
-        gl.scissor(0, 0, size.0, size.1);
-        if squares.as_points() {
-            gl.enable(glow::PROGRAM_POINT_SIZE);
-        }
-    }
-}
-
-/// Undo `begin_squares` (and a marking pass's depth test).
-pub(crate) fn end_squares(ctx: &GlContext) {
-    let gl = &ctx.gl;
-    unsafe {
-        gl.disable(glow::PROGRAM_POINT_SIZE);
-        gl.disable(glow::DEPTH_TEST);
-        gl.disable(glow::SCISSOR_TEST);
-        gl.active_texture(glow::TEXTURE0);
     }
 }
 

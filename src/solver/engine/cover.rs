@@ -1,14 +1,16 @@
-//! What a reconstruction pass draws: aligned squares of whole 4×4 texel blocks covering the
-//! blocks it needs (found on a pyramid of block masks, `Cover::pyramid`), as points or triangle
-//! pairs (`Squares`); which blocks hold each polygon's patches (`patch_blocks`).
+//! What the engine's reconstruction pass draws (`MarkedSquares`): aligned squares of whole 4×4
+//! texel blocks covering the blocks it needs (found on a pyramid of block masks,
+//! `Cover::pyramid`), as points or triangle pairs (`Squares`); which blocks hold each polygon's
+//! patches (`patch_blocks`).
 //!
-//! Why squares and not the receivers' rectangles: a rectangle is two triangles, and llvmpipe
+//! Why squares and not the receivers' rectangles (the paper's `WholeAtlas`): a rectangle is two
+//! triangles, and llvmpipe
 //! shades every block its diagonal crosses once for each; a thin rectangle of lightmaps costs
 //! about twice its area. A square drawn as one point is shaded block by block, once
 //! (`Tuning::squares_as_points`).
 
 use crate::gl::objects::Attribute;
-use crate::gl::{Gl, GlError, Mesh};
+use crate::gl::{Gl, GlContext, GlError, Mesh};
 use crate::patches::PatchLayout;
 use glow::HasContext;
 
@@ -148,6 +150,32 @@ impl Squares {
         let above = self.run(1).1 as usize / per_square;
         let all = self.mesh.vertex_count as usize / per_square;
         (all - above, above)
+    }
+}
+
+/// Set the viewport and scissor for `squares` over an atlas of `size` texels (and points of any
+/// size, if drawn as points).
+pub(crate) fn begin_squares(ctx: &GlContext, squares: &Squares, size: (i32, i32)) {
+    let gl = &ctx.gl;
+    unsafe {
+        let (w, h) = squares.viewport;
+        gl.viewport(0, 0, w, h);
+        gl.enable(glow::SCISSOR_TEST);
+        gl.scissor(0, 0, size.0, size.1);
+        if squares.as_points() {
+            gl.enable(glow::PROGRAM_POINT_SIZE);
+        }
+    }
+}
+
+/// Undo `begin_squares` (and a marking pass's depth test).
+pub(crate) fn end_squares(ctx: &GlContext) {
+    let gl = &ctx.gl;
+    unsafe {
+        gl.disable(glow::PROGRAM_POINT_SIZE);
+        gl.disable(glow::DEPTH_TEST);
+        gl.disable(glow::SCISSOR_TEST);
+        gl.active_texture(glow::TEXTURE0);
     }
 }
 
