@@ -9,8 +9,8 @@ mod common;
 use common::*;
 use gpu_radiosity::patches::{PatchLayout, Resolution};
 use gpu_radiosity::scene::{load_obj, Scene};
-use gpu_radiosity::solver::balance::TOLERANCE;
 use gpu_radiosity::solver::clusters::Clusters;
+use gpu_radiosity::solver::find_max_energy::TOLERANCE;
 use gpu_radiosity::solver::{CpuSolver, GpuSolver, SolveOptions, CLUSTER_CELL};
 
 /// Tiles along each side of the floor.

@@ -13,7 +13,7 @@ mod common;
 use common::*;
 use gpu_radiosity::patches::{PatchLayout, Resolution};
 use gpu_radiosity::scene::{load_obj, Scene};
-use gpu_radiosity::solver::balance::{EMITTED_NOISE, TOLERANCE};
+use gpu_radiosity::solver::find_max_energy::{EMITTED_NOISE, TOLERANCE};
 use gpu_radiosity::solver::{Backend, CpuSolver, GpuSolver, ShotRecord, SolveOptions, Solver};
 use std::path::PathBuf;
 

@@ -14,11 +14,11 @@ mod common;
 use common::*;
 use gpu_radiosity::patches::{PatchLayout, Resolution};
 use gpu_radiosity::scene::{load_obj, Scene};
-use gpu_radiosity::solver::balance::{EMITTED_NOISE, TOLERANCE};
+use gpu_radiosity::solver::find_max_energy::{EMITTED_NOISE, TOLERANCE};
 use gpu_radiosity::solver::{default_max_shots, CpuSolver, GpuSolver, ShotRecord, SolveOptions};
 
 /// Every shot of `history` within its bound once the float noise of the atlas's sums
-/// (`balance::EMITTED_NOISE` of the `emitted` power) is taken off what it received, as the solver
+/// (`find_max_energy::EMITTED_NOISE` of the `emitted` power) is taken off what it received, as the solver
 /// judges it; the worst ratio of the shots that are within it without that allowance.
 fn walk(name: &str, history: &[ShotRecord], emitted: f64) -> f64 {
     assert!(!history.is_empty(), "{name}: no shot");

@@ -12,7 +12,7 @@ mod common;
 use common::*;
 use gpu_radiosity::pipeline;
 use gpu_radiosity::scene::Scene;
-use gpu_radiosity::solver::balance::TOLERANCE;
+use gpu_radiosity::solver::find_max_energy::TOLERANCE;
 use gpu_radiosity::solver::shooters::{max_cells, widened_cell, MIN_CELLS_PER_SHOT};
 use gpu_radiosity::solver::{GpuSolver, SolveOptions};
 

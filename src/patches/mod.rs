@@ -56,6 +56,17 @@ impl Lightmap {
         self.axis_u.length() * self.axis_v.length() / (self.w * self.h) as f32
     }
 
+    /// An outline given in the lightmap's texel coordinates → its world corners (padded to `N`),
+    /// their count (at most `N`) and the outline's world area.
+    pub fn world_outline<const N: usize>(&self, outline: &[Vec2]) -> ([Vec3; N], usize, f32) {
+        let mut corners = [Vec3::ZERO; N];
+        for (c, p) in corners.iter_mut().zip(outline) {
+            *c = self.world(p.x, p.y);
+        }
+        let area = crate::geometry::signed_area(outline).abs() * self.texel_area();
+        (corners, outline.len().min(N), area)
+    }
+
     /// Lightmap texel coordinates (not atlas) of a world point on the polygon's plane.
     pub fn texel_of(&self, p: Vec3) -> Vec2 {
         let d = p - self.origin;

@@ -3,17 +3,17 @@
 //! `progressive.rs` is the loop in the paper's order, written once ([`Solver`]) over a
 //! [`Backend`] that does the passes: `gpu.rs` on OpenGL as the paper does, `cpu/` in Rust with
 //! exact visibility. Each step has its own file: `find_max_energy.rs` (choose the shooter, from
-//! the books both backends share: unshot totals, areas, stopping rule, history, pass timers),
-//! `balance.rs` (a shot's energy books), `shooters.rs` (the shooter's cells), `visibility/`
-//! (item buffer from the shooter, and what it may leave out), `reconstruction/` (form factors
-//! and received energy per patch, accumulation), `form_factor.rs` (the CPU twins of the
+//! the books both backends share: unshot totals, areas, stopping rule, history, pass timers,
+//! and each shot's energy balance), `shooters.rs` (the shooter's cells, beyond the paper, whose
+//! whole polygon shoots from `progressive.rs`), `visibility/` (item buffer from the shooter,
+//! and what it may leave out), `reconstruction/` (form factors and received energy per patch,
+//! accumulation), `form_factor.rs` (the CPU twins of the
 //! shader's factors). `mesh.rs` builds the vertex data the passes draw; `pass_names.rs` names
 //! the steps (timers, GL errors); `tuning.rs` holds every speed trick for llvmpipe, apart from
 //! the paper; `overshoot.rs` the ambient estimate of overshooting, one of the speed options
 //! beyond the paper that change the answer (`SolveOptions::overshoot`, `small_hemi_res`,
 //! `rotate_item_buffer`, `shooters_per_pass`).
 
-pub mod balance;
 pub mod clusters;
 pub mod cpu;
 pub mod engine;
@@ -40,6 +40,7 @@ pub use options::*;
 pub use profile::{ChosenTuning, Profile, TuningChoice};
 pub use progressive::{Backend, Solver};
 pub use tuning::{ReceiverChoice, Tuning, Walk};
+pub use visibility::item_buffer_side;
 
 use crate::gl::GlError;
 
@@ -157,7 +158,7 @@ pub enum SolveError {
     },
 }
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 
 /// Most corners a shooter's outline may have (a cell clipped to its polygon, or a whole polygon);
 /// a shooter with more uses its bounding rectangle instead.
@@ -195,21 +196,6 @@ pub struct Shooter {
     /// Turn of the item buffer about the normal, radians (`SolveOptions::rotate_item_buffer`;
     /// 0 in the paper).
     pub turn: f32,
-}
-
-impl Shooter {
-    /// World -> shooter eye space: eye at the shooter, looking down -z along its normal.
-    pub fn view(&self) -> Mat4 {
-        let up = glam::Quat::from_axis_angle(self.normal, self.turn)
-            * self.normal.any_orthonormal_vector();
-        Mat4::look_at_rh(self.position, self.position + self.normal, up)
-    }
-
-    /// Power it shoots, π·L·A, averaged over RGB (negative for negative unshot energy).
-    pub fn power(&self) -> f64 {
-        std::f64::consts::PI * (self.energy.x as f64 + self.energy.y as f64 + self.energy.z as f64)
-            / 3.0
-    }
 }
 
 /// One shot, as reported in `stats.json`'s history.

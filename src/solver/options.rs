@@ -78,7 +78,7 @@ pub struct SolveOptions {
     pub small_shot: f32,
     /// Beyond the paper, for cheaper shots: with `small_hemi_res`, the small shots' side falls
     /// further with the cube root of their share of the emitted power, down to this (0: every
-    /// small shot at `small_hemi_res`; see [`item_buffer_side`]).
+    /// small shot at `small_hemi_res`; see [`item_buffer_side`](super::item_buffer_side)).
     pub min_hemi_res: u32,
     /// Beyond the paper, for accuracy: each shot turns its item buffer about the shooter's
     /// normal by its own angle ([`turn_of_shot`]), so that the pixel grids of successive shots do
@@ -96,7 +96,7 @@ pub struct SolveOptions {
     /// 1: one shooter per pass, as the paper.
     pub shooters_per_pass: u32,
     /// Beyond the paper, so that no shot creates energy: a shot whose receivers got more than it
-    /// carried (their gains over their reflectance, channel by channel; `balance.rs`) is scaled
+    /// carried (their gains over their reflectance, channel by channel; `ShotBalance`) is scaled
     /// back to what it carried by a second reconstruction pass. Gathering samples the form factor
     /// at patch centres, and a patch whose centre sees the shooter while most of its area does
     /// not would otherwise receive for all of it. Off in the paper's mode.
@@ -401,25 +401,6 @@ impl Default for SolveOptions {
     }
 }
 
-/// The item buffer's side for a shot that carries `share` of the emitted power (by magnitude:
-/// an overshot shooter's negative energy too): `hemi_res`, or `small_hemi_res` below
-/// `small_shot`; with `min_hemi_res`, below `small_shot` the side falls with the cube root of
-/// the share, to `min_hemi_res` at the least. Why the cube root: a shot's aliasing error grows
-/// with its power over its side, its cost with the side squared, and Σ error + λ Σ cost is
-/// least where side³ ∝ power.
-pub fn item_buffer_side(options: &SolveOptions, share: f64) -> u32 {
-    let o = options;
-    let small = share.abs() < o.small_shot as f64;
-    if o.small_hemi_res == 0 || !small {
-        o.hemi_res
-    } else if o.min_hemi_res == 0 {
-        o.small_hemi_res
-    } else {
-        let side = o.small_hemi_res as f64 * (share.abs() / o.small_shot as f64).cbrt();
-        (side.round() as u32).clamp(o.min_hemi_res, o.small_hemi_res)
-    }
-}
-
 /// The item buffer's turn for shot `shot` (0-based) when `SolveOptions::rotate_item_buffer` is
 /// on: the golden-ratio sequence of angles, which spreads any run of successive shots evenly
 /// around the circle, the same in every run (so that solves stay reproducible).
@@ -447,45 +428,6 @@ mod tests {
                 .iter()
                 .all(|a| (0.0..=2.0 * std::f32::consts::TAU).contains(a)));
         }
-    }
-
-    #[test]
-    fn the_smallest_shots_get_sides_in_proportion_to_the_cube_root_of_their_power() {
-        let o = SolveOptions {
-            hemi_res: 256,
-            small_hemi_res: 128,
-            small_shot: 0.01,
-            min_hemi_res: 16,
-            ..SolveOptions::accurate()
-        };
-        // At and above the small shots' share: the full side.
-        assert_eq!(item_buffer_side(&o, 0.01), 256);
-        assert_eq!(item_buffer_side(&o, -0.5), 256);
-        // Just below: the small shots' side; an eighth of the share, half of it; by magnitude.
-        assert_eq!(item_buffer_side(&o, 0.009_999), 128);
-        assert_eq!(item_buffer_side(&o, 0.01 / 8.0), 64);
-        assert_eq!(item_buffer_side(&o, -0.01 / 64.0), 32);
-        // Never below the least, nor for a shot of nothing.
-        assert_eq!(item_buffer_side(&o, 1e-9), 16);
-        assert_eq!(item_buffer_side(&o, 0.0), 16);
-        // Falling with the share all the way.
-        let sides: Vec<u32> = (0..60)
-            .map(|k| item_buffer_side(&o, 0.0099 * 0.9f64.powi(k)))
-            .collect();
-        assert!(sides.windows(2).all(|w| w[1] <= w[0]), "{sides:?}");
-        // Without `min_hemi_res`, two sides only (the option as it was).
-        let two = SolveOptions {
-            min_hemi_res: 0,
-            ..o.clone()
-        };
-        assert_eq!(item_buffer_side(&two, 1e-9), 128);
-        assert_eq!(item_buffer_side(&two, 0.02), 256);
-        // Without `small_hemi_res`, one.
-        let one = SolveOptions {
-            small_hemi_res: 0,
-            ..o
-        };
-        assert_eq!(item_buffer_side(&one, 1e-9), 256);
     }
 
     #[test]

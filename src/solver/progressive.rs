@@ -18,15 +18,16 @@
 //! paper does, [`CpuBackend`](super::cpu::CpuBackend) in Rust with exact visibility. [`Solver`]
 //! runs the loop and keeps the books ([`Ledger`]); `GpuSolver` and `CpuSolver` name the two.
 
-use super::balance::{self, ShotBalance};
 use super::clusters::{self, ClusterChoice, Clusters, Member};
 use super::face_clusters::FaceClusters;
-use super::find_max_energy::{Ledger, PassTimes};
+use super::find_max_energy::{self, EnergyTotals, Ledger, PassTimes, ShotBalance};
 use super::overshoot::Overshoot;
 use super::pass_names::{ACCUMULATION, FIND_MAX_ENERGY, READBACK, RECONSTRUCTION, VISIBILITY};
-use super::{shooters, Shooter, ShotRecord, SolveError, SolveOptions};
+use super::{shooters, Shooter, ShotRecord, SolveError, SolveOptions, MAX_CORNERS};
+use crate::geometry::rectangle;
 use crate::patches::{Lightmap, PatchLayout};
 use crate::scene::Scene;
+use glam::{Vec2, Vec3};
 use std::time::{Duration, Instant};
 
 /// The passes of one shot, as a backend does them. Atlases are RGBA (alpha: polygon ID + 1), in
@@ -266,8 +267,8 @@ impl<'a, B: Backend> Solver<'a, B> {
         let books = books_of(&own, members);
         let mut balance = self.balance_of(&books, &totals_before);
         // Beyond the paper: a shot whose receivers got more than it carried is scaled back.
-        if self.options.conserve && balance.excess() > balance::CORRECT_ABOVE {
-            let correction = balance::correction(&own, &balance);
+        if self.options.conserve && balance.excess() > find_max_energy::CORRECT_ABOVE {
+            let correction = find_max_energy::correction(&own, &balance);
             // The item buffers of a single pass are still in their slots; several passes drew
             // over each other's.
             let redraw = own.len() > self.options.shooters_per_pass.max(1) as usize;
@@ -294,10 +295,11 @@ impl<'a, B: Backend> Solver<'a, B> {
     }
 
     /// The books of a shot of `shooters` from the changed polygons' totals `before` it, judged
-    /// with the float noise of the atlas's sums: [`balance::EMITTED_NOISE`] of the emitted energy
+    /// with the float noise of the atlas's sums: [`find_max_energy::EMITTED_NOISE`] of the emitted energy
     /// per channel, in the ledger's energy units (Σ L·A).
     fn balance_of(&self, shooters: &[Shooter], before: &[(usize, [f64; 3])]) -> ShotBalance {
-        let floor = balance::EMITTED_NOISE * self.ledger.emitted_power() / std::f64::consts::PI;
+        let floor =
+            find_max_energy::EMITTED_NOISE * self.ledger.emitted_power() / std::f64::consts::PI;
         ShotBalance::measure(self.scene, shooters, before, self.ledger.totals(), floor)
     }
 
@@ -353,7 +355,7 @@ impl<'a, B: Backend> Solver<'a, B> {
         balance: &ShotBalance,
         totals_before: &[(usize, [f64; 3])],
     ) -> Result<(), SolveError> {
-        let over = balance.excess() > balance::TOLERANCE || balance.excess().is_nan();
+        let over = balance.excess() > find_max_energy::TOLERANCE || balance.excess().is_nan();
         let ceiling = self.unshot_ceiling.max(self.ledger.emitted_power());
         let growth = self.ledger.unshot_power() / ceiling;
         // Overshooting leaves negative unshot energy behind, so the magnitude may pass the
@@ -391,8 +393,15 @@ impl<'a, B: Backend> Solver<'a, B> {
              remove the duplicates"
         };
         let (scene, after) = (self.scene, self.ledger.totals());
-        let error =
-            balance::energy_created(scene, record, balance, totals_before, after, growth, cause);
+        let error = find_max_energy::energy_created(
+            scene,
+            record,
+            balance,
+            totals_before,
+            after,
+            growth,
+            cause,
+        );
         Err(error)
     }
 
@@ -473,32 +482,23 @@ impl<'a, B: Backend> Solver<'a, B> {
     /// the options go beyond the paper there.
     pub fn shooters_of(&self, p: usize) -> Vec<Shooter> {
         let own = self.backend.layout();
-        // What the shot moves patch by patch, not what the polygon holds (`shot_magnitude`).
         let remainder = self
             .overshoot
             .as_ref()
             .map(|o| o.remainder(self.ledger.totals(), p));
-        let power = shooters::shot_magnitude(
-            own,
-            self.backend.unshot(),
-            p,
-            remainder.unwrap_or(glam::Vec3::ZERO),
-            self.ledger.patch_area(p),
-        );
-        let share = power / self.ledger.emitted_power();
         let emitter = self.scene.material(&self.scene.polygons[p]).is_emitter();
-        let cells = shooters::cells_of_shot(&self.options, emitter, share);
-        let mut shooters = shooters::shooters_of(
-            self.scene,
-            own,
-            &self.options,
-            self.backend.unshot(),
-            self.ledger.patch_areas(),
-            self.ledger.totals(),
-            p,
-            cells,
-            shooters::shot_cap(self.max_cells, share, self.options.cut_above),
-        );
+        let options = &self.options;
+        let cell = if emitter {
+            options.emitter_cell
+        } else {
+            options.shooter_cell
+        };
+        let mut shooters = if cell == 0 {
+            let totals = self.ledger.totals();
+            vec![whole_polygon(self.scene, own, totals, p, options.hemi_res)]
+        } else {
+            self.cells_of(p, cell, remainder.unwrap_or(glam::Vec3::ZERO))
+        };
         for s in &mut shooters {
             if let Some(remainder) = remainder {
                 // Each of the shooter's patches shoots −remainder more radiance.
@@ -515,10 +515,31 @@ impl<'a, B: Backend> Solver<'a, B> {
         // A part with nothing to shoot (and no overshoot to add) costs a pass for nothing. A
         // whole polygon stays (Find_Max_Energy never picks one with nothing; callers that ask
         // for a given polygon's shooter, as the item-buffer tests do, get it).
-        if cells.0 != 0 {
+        if cell != 0 {
             shooters.retain(|s| s.energy != glam::Vec3::ZERO);
         }
         shooters
+    }
+
+    /// Beyond the paper: polygon `p`'s cells of `cell` patches a side (`shooters::shooters_of`),
+    /// as many and as finely cut as what the shot moves patch by patch asks for (with
+    /// overshooting's `remainder` taken back, `shot_magnitude`), not what the polygon holds.
+    fn cells_of(&self, p: usize, cell: u32, remainder: glam::Vec3) -> Vec<Shooter> {
+        let own = self.backend.layout();
+        let patch_area = self.ledger.patch_area(p);
+        let unshot = self.backend.unshot();
+        let power = shooters::shot_magnitude(own, unshot, p, remainder, patch_area);
+        let share = power / self.ledger.emitted_power();
+        shooters::shooters_of(
+            self.scene,
+            own,
+            &self.options,
+            unshot,
+            self.ledger.patch_areas(),
+            p,
+            shooters::cells_of_shot(&self.options, cell, share),
+            shooters::shot_cap(self.max_cells, share, self.options.cut_above),
+        )
     }
 
     /// The item-buffer resolution for shooter `s` ([`super::item_buffer_side`]).
@@ -691,6 +712,42 @@ fn books_of(shooters: &[Shooter], members: &[Member]) -> Vec<Shooter> {
 
 /// A texel rectangle of lightmap `from` at the same place in `to` (the same lightmap elsewhere);
 /// a shooter that owns no texels (`[0; 4]`: a cluster's) owns none there either.
+/// The paper's shooter: polygon `p` shoots its whole unshot energy from its centroid, with its
+/// own outline for the polygon form factor (its lightmap's rectangle where it has more corners
+/// than a shooter holds).
+fn whole_polygon(
+    scene: &Scene,
+    layout: &PatchLayout,
+    totals: &EnergyTotals,
+    p: usize,
+    hemi_res: u32,
+) -> Shooter {
+    let polygon = &scene.polygons[p];
+    let lm = &layout.lightmaps[p];
+    let outline: Vec<Vec2> = polygon.vertices.iter().map(|&v| lm.texel_of(v)).collect();
+    let rect = rectangle(Vec2::ZERO, Vec2::new(lm.w as f32, lm.h as f32));
+    let corners = if outline.len() <= MAX_CORNERS {
+        &outline[..]
+    } else {
+        &rect[..]
+    };
+    let (corners, corner_count, area) = lm.world_outline(corners);
+    Shooter {
+        polygon: p,
+        texels: lm.texels(),
+        patches: layout.patches_per_polygon[p],
+        position: polygon.centroid,
+        normal: polygon.normal,
+        energy: totals.energy_rgb(p),
+        corners,
+        corner_count,
+        area,
+        remainder: Vec3::ZERO,
+        hemi_res,
+        turn: 0.0,
+    }
+}
+
 fn move_rect(r: [u32; 4], from: &Lightmap, to: &Lightmap) -> [u32; 4] {
     if r == [0; 4] {
         return r;

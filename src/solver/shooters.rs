@@ -3,36 +3,12 @@
 //! from the cell's energy-weighted centre, with the cell's outline (its rectangle clipped to the
 //! polygon) for the polygon form factor. The GPU and the CPU solvers share this code.
 
-use super::find_max_energy::EnergyTotals;
 use super::{Shooter, SolveOptions, MAX_CORNERS};
 use crate::geometry::{bounds, clip_convex, rectangle, signed_area};
 use crate::patches::{Lightmap, PatchLayout};
 use crate::random::Rng;
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
-
-/// Lightmap-space outline → world corners (padded to MAX_CORNERS), their count and world area.
-fn world_outline(lm: &Lightmap, outline: &[Vec2]) -> ([Vec3; MAX_CORNERS], usize, f32) {
-    let mut corners = [Vec3::ZERO; MAX_CORNERS];
-    for (c, p) in corners.iter_mut().zip(outline) {
-        *c = lm.world(p.x, p.y);
-    }
-    (
-        corners,
-        outline.len().min(MAX_CORNERS),
-        signed_area(outline).abs() * lm.texel_area(),
-    )
-}
-
-/// The side, in patches, of the cells a polygon shoots from (0: the whole polygon from its
-/// centroid): `emitter_cell` for emitters, `shooter_cell` for the rest.
-pub fn cell_side(options: &SolveOptions, emitter: bool) -> u32 {
-    if emitter {
-        options.emitter_cell
-    } else {
-        options.shooter_cell
-    }
-}
 
 /// Whether a shot carrying `share` of the emitted power cuts its cells where touching polygons'
 /// planes cross them (`cell_parts`): always in the paper's accounting of cells, and beyond it
@@ -45,14 +21,13 @@ pub fn cuts_cells(options: &SolveOptions, share: f64) -> bool {
 
 /// How a shot of `share` of the emitted power (what it moves, [`shot_magnitude`]) divides its
 /// polygon: the side of its cells, and the side down to which a cell that a touching polygon's
-/// plane crosses is cut (`None`: not cut). The paper's accounting: cells of [`cell_side`], every
+/// plane crosses is cut (`None`: not cut). The paper's accounting: cells of `cell` patches, every
 /// one cut down to single patches. Beyond it, a shot below `cut_above` ([`cuts_cells`]) shoots from cells of `coarse_cell`
 /// where that is wider: the late, small shots of large polygons in a fraction of the passes.
 /// Those above [`UNCUT_BELOW`] × `cut_above` are cut down to the ordinary cell where a plane
 /// crosses them (near contacts they shoot as the ordinary cells would); the smallest are not
 /// cut, as a shot's error at a contact grows with its power.
-pub fn cells_of_shot(options: &SolveOptions, emitter: bool, share: f64) -> (u32, Option<u32>) {
-    let cell = cell_side(options, emitter);
+pub fn cells_of_shot(options: &SolveOptions, cell: u32, share: f64) -> (u32, Option<u32>) {
     if cuts_cells(options, share) {
         (cell, Some(1))
     } else if cell != 0 && options.coarse_cell > cell {
@@ -147,9 +122,10 @@ pub fn widened_cell(w: u32, h: u32, cell: u32, max_cells: u32) -> u32 {
 /// The share of `cut_above` below which coarse cells are not cut at all ([`cells_of_shot`]).
 pub const UNCUT_BELOW: f64 = 0.1;
 
-/// The shooters that carry polygon `p`'s unshot energy: the whole polygon from its centroid
-/// (the paper, `cell` 0), or one shooter per cell of `cell`² patches, each at the mean position
-/// of its patches with the cell's own unshot energy.
+/// The shooters that carry polygon `p`'s unshot energy beyond the paper (whose whole polygon
+/// shoots from its centroid, `progressive::whole_polygon`): one shooter per cell of `cell`²
+/// patches (`cell` at least 1), each at the mean position of its patches with the cell's own
+/// unshot energy.
 #[allow(clippy::too_many_arguments)]
 pub fn shooters_of(
     scene: &Scene,
@@ -157,7 +133,6 @@ pub fn shooters_of(
     options: &SolveOptions,
     unshot: &[f32],
     patch_area: &[f64],
-    totals: &EnergyTotals,
     p: usize,
     (cell, finest): (u32, Option<u32>),
     max_cells: u32,
@@ -165,29 +140,6 @@ pub fn shooters_of(
     let polygon = &scene.polygons[p];
     let lm = &layout.lightmaps[p];
     let outline: Vec<Vec2> = polygon.vertices.iter().map(|&v| lm.texel_of(v)).collect();
-    if cell == 0 {
-        let rect = rectangle(Vec2::ZERO, Vec2::new(lm.w as f32, lm.h as f32));
-        let corners = if outline.len() <= MAX_CORNERS {
-            &outline[..]
-        } else {
-            &rect[..]
-        };
-        let (corners, corner_count, area) = world_outline(lm, corners);
-        return vec![Shooter {
-            polygon: p,
-            texels: lm.texels(),
-            patches: layout.patches_per_polygon[p],
-            position: polygon.centroid,
-            normal: polygon.normal,
-            energy: totals.energy_rgb(p),
-            corners,
-            corner_count,
-            area,
-            remainder: Vec3::ZERO,
-            hemi_res: options.hemi_res,
-            turn: 0.0,
-        }];
-    }
     let own = cell;
     let cell = widened_cell(lm.w, lm.h, cell, max_cells);
     let width = layout.atlas_width as usize;
@@ -220,7 +172,7 @@ pub fn shooters_of(
         );
         let clipped = clip_convex(&rect, &outline)
             .filter(|c| c.len() >= 3 && c.len() <= MAX_CORNERS && signed_area(c) > 0.0);
-        let (corners, corner_count, area) = world_outline(lm, clipped.as_deref().unwrap_or(&rect));
+        let (corners, corner_count, area) = lm.world_outline(clipped.as_deref().unwrap_or(&rect));
         shooters.push(Shooter {
             polygon: p,
             texels: [lm.x + x0, lm.y + y0, lm.x + x1, lm.y + y1],

@@ -28,13 +28,14 @@ mod programs;
 
 pub(crate) use patch_data::PolygonPlanes;
 pub use programs::ProgramVariants;
-pub(crate) use programs::{compile, fragment, Choices, Variants};
+pub(crate) use programs::{compile, fragment, Choices};
 
 use super::pass_names::{ACCUMULATION, INITIALISATION, RECONSTRUCTION};
 use super::visibility::VisibilityPass;
 use super::{FormFactorKind, Shooter, SolveOptions, VisibilityKind, MAX_SHOOTERS_PER_PASS};
 use crate::gl::faults::{self, Fault};
 use crate::gl::objects::Attribute;
+use crate::gl::program::Source;
 use crate::gl::{
     Framebuffer, Gl, GlContext, GlError, Mesh, Program, Renderbuffer, Texture, TextureFormat,
 };
@@ -568,6 +569,44 @@ impl AtlasDraw for WholeAtlas {
 
     fn as_any(&self) -> &dyn Any {
         self
+    }
+}
+
+/// A program for any corner count, and (`ProgramVariants::quads`) its variant for
+/// quadrilateral shooters (`CORNERS` 4).
+pub(crate) struct Variants {
+    any: Program,
+    quads: Option<Program>,
+}
+
+impl Variants {
+    /// `source` compiled by `compile`, and for quadrilaterals too if `quads`.
+    pub fn new(
+        compile: &dyn Fn(Source) -> Result<Program, GlError>,
+        source: &dyn Fn() -> Source,
+        quads: bool,
+    ) -> Result<Self, GlError> {
+        Ok(Variants {
+            any: compile(source())?,
+            quads: if quads {
+                Some(compile(source().define("CORNERS", 4))?)
+            } else {
+                None
+            },
+        })
+    }
+
+    /// The one for quadrilaterals if `quad` and it was compiled, else the general one.
+    pub fn get(&self, quad: bool) -> &Program {
+        match (&self.quads, quad) {
+            (Some(q), true) => q,
+            _ => &self.any,
+        }
+    }
+
+    /// Whether it has the variant for quadrilaterals.
+    pub fn has_quads(&self) -> bool {
+        self.quads.is_some()
     }
 }
 

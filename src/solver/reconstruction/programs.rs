@@ -2,6 +2,7 @@
 //! with the solve's choices compiled in and for quadrilateral shooters), with the per-shooter
 //! functions the shader leaves to the host, and the emission shader of the initialisation.
 
+use super::Variants;
 use crate::gl::program::Source;
 use crate::gl::{GlContext, GlError, Program};
 use crate::glsl;
@@ -45,44 +46,6 @@ impl ProgramVariants {
         choices_compiled: false,
         quads: false,
     };
-}
-
-/// A program for any corner count, and (`ProgramVariants::quads`) its variant for
-/// quadrilateral shooters (`CORNERS` 4).
-pub(crate) struct Variants {
-    any: Program,
-    quads: Option<Program>,
-}
-
-impl Variants {
-    /// `source` compiled by `compile`, and for quadrilaterals too if `quads`.
-    pub fn new(
-        compile: &dyn Fn(Source) -> Result<Program, GlError>,
-        source: &dyn Fn() -> Source,
-        quads: bool,
-    ) -> Result<Self, GlError> {
-        Ok(Variants {
-            any: compile(source())?,
-            quads: if quads {
-                Some(compile(source().define("CORNERS", 4))?)
-            } else {
-                None
-            },
-        })
-    }
-
-    /// The one for quadrilaterals if `quad` and it was compiled, else the general one.
-    pub fn get(&self, quad: bool) -> &Program {
-        match (&self.quads, quad) {
-            (Some(q), true) => q,
-            _ => &self.any,
-        }
-    }
-
-    /// Whether it has the variant for quadrilaterals.
-    pub fn has_quads(&self) -> bool {
-        self.quads.is_some()
-    }
 }
 
 /// A solve's fixed choices that `glsl/reconstruct.frag` branches on: the form factor, the

@@ -21,7 +21,7 @@
 
 use super::mesh::{SceneMesh, ATTRIBUTES};
 use super::pass_names::VISIBILITY;
-use super::{Shooter, VisibilityKind};
+use super::{Shooter, SolveOptions, VisibilityKind};
 use crate::gl::{
     Framebuffer, GlContext, GlError, IndexStream, Program, Renderbuffer, Texture, TextureFormat,
 };
@@ -297,6 +297,35 @@ pub fn face_rotations() -> [Mat3; 5] {
         face(Vec3::Y, Vec3::Z),
         face(Vec3::NEG_Y, Vec3::Z),
     ]
+}
+
+impl Shooter {
+    /// World -> shooter eye space, which the item buffer is drawn in: eye at the shooter,
+    /// looking down -z along its normal (turned by `turn` about it, beyond the paper).
+    pub fn view(&self) -> Mat4 {
+        let up = glam::Quat::from_axis_angle(self.normal, self.turn)
+            * self.normal.any_orthonormal_vector();
+        Mat4::look_at_rh(self.position, self.position + self.normal, up)
+    }
+}
+
+/// The item buffer's side for a shot that carries `share` of the emitted power (by magnitude:
+/// an overshot shooter's negative energy too): `hemi_res`, or `small_hemi_res` below
+/// `small_shot`; with `min_hemi_res`, below `small_shot` the side falls with the cube root of
+/// the share, to `min_hemi_res` at the least. Why the cube root: a shot's aliasing error grows
+/// with its power over its side, its cost with the side squared, and Σ error + λ Σ cost is
+/// least where side³ ∝ power.
+pub fn item_buffer_side(options: &SolveOptions, share: f64) -> u32 {
+    let o = options;
+    let small = share.abs() < o.small_shot as f64;
+    if o.small_hemi_res == 0 || !small {
+        o.hemi_res
+    } else if o.min_hemi_res == 0 {
+        o.small_hemi_res
+    } else {
+        let side = o.small_hemi_res as f64 * (share.abs() / o.small_shot as f64).cbrt();
+        (side.round() as u32).clamp(o.min_hemi_res, o.small_hemi_res)
+    }
 }
 
 /// The item buffer's width and height at resolution `res`: the hemicube's five faces side by
@@ -643,5 +672,49 @@ impl VisibilityPass {
                 n.checked_sub(1)
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_smallest_shots_get_sides_in_proportion_to_the_cube_root_of_their_power() {
+        let o = SolveOptions {
+            hemi_res: 256,
+            small_hemi_res: 128,
+            small_shot: 0.01,
+            min_hemi_res: 16,
+            ..SolveOptions::accurate()
+        };
+        // At and above the small shots' share: the full side.
+        assert_eq!(item_buffer_side(&o, 0.01), 256);
+        assert_eq!(item_buffer_side(&o, -0.5), 256);
+        // Just below: the small shots' side; an eighth of the share, half of it; by magnitude.
+        assert_eq!(item_buffer_side(&o, 0.009_999), 128);
+        assert_eq!(item_buffer_side(&o, 0.01 / 8.0), 64);
+        assert_eq!(item_buffer_side(&o, -0.01 / 64.0), 32);
+        // Never below the least, nor for a shot of nothing.
+        assert_eq!(item_buffer_side(&o, 1e-9), 16);
+        assert_eq!(item_buffer_side(&o, 0.0), 16);
+        // Falling with the share all the way.
+        let sides: Vec<u32> = (0..60)
+            .map(|k| item_buffer_side(&o, 0.0099 * 0.9f64.powi(k)))
+            .collect();
+        assert!(sides.windows(2).all(|w| w[1] <= w[0]), "{sides:?}");
+        // Without `min_hemi_res`, two sides only (the option as it was).
+        let two = SolveOptions {
+            min_hemi_res: 0,
+            ..o.clone()
+        };
+        assert_eq!(item_buffer_side(&two, 1e-9), 128);
+        assert_eq!(item_buffer_side(&two, 0.02), 256);
+        // Without `small_hemi_res`, one.
+        let one = SolveOptions {
+            small_hemi_res: 0,
+            ..o
+        };
+        assert_eq!(item_buffer_side(&one, 1e-9), 256);
     }
 }
