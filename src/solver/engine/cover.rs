@@ -3,11 +3,11 @@
 //! `Cover::pyramid`), as points or triangle pairs (`Squares`); which blocks hold each polygon's
 //! patches (`patch_blocks`).
 //!
-//! Why squares and not the receivers' rectangles (the paper's `WholeAtlas`): a rectangle is two
-//! triangles, and llvmpipe
-//! shades every block its diagonal crosses once for each; a thin rectangle of lightmaps costs
-//! about twice its area. A square drawn as one point is shaded block by block, once
-//! (`Tuning::squares_as_points`).
+//! Why squares: the engine shades only the blocks a pass needs (the receivers', after a marking
+//! pass), where the paper's `WholeAtlas` shades the whole atlas as one quad. Why not the
+//! receivers' rectangles: a rectangle is two triangles, and llvmpipe shades every block its
+//! diagonal crosses once for each; a thin rectangle of lightmaps costs about twice its area. A
+//! square drawn as one point is shaded block by block, once (`Tuning::squares_as_points`).
 
 use crate::gl::objects::Attribute;
 use crate::gl::{Gl, GlContext, GlError, Mesh};

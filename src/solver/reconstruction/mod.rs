@@ -14,8 +14,8 @@
 //! The receivers are rasterised once, at initialisation, into atlas textures holding each patch's
 //! position, normal and reflectance (`patch_data.rs`, with the polygons' planes). What each pass
 //! draws, and with which program, is an `AtlasDraw` (below): the paper's `WholeAtlas` draws every
-//! receiver onto its lightmap rectangle (a texel outside every rectangle stays as the clear left
-//! it), into renderbuffers cleared first, with
+//! receiver at once, as one quad over the atlas (a texel that is no patch adds nothing), into
+//! renderbuffers cleared first, with
 //! the program of `programs.rs` and the texture units and uniforms below (`UNITS`, `Uniforms`).
 //! The llvmpipe engine's (`solver::engine`) draws only the receivers' blocks after a marking
 //! pass; the texels it leaves alone keep the renderbuffers' values, which the last copy also put
@@ -486,17 +486,20 @@ pub(crate) trait AtlasDraw: Any {
     fn as_any(&self) -> &dyn Any;
 }
 
-/// The paper's draw: every receiver drawn onto its lightmap rectangle, each pass, with the paper's
-/// program. Every polygon with patches receives, and the shooters' texels lie in their polygons'
-/// rectangles, so the shooting texels are drawn too (to clear their unshot energy).
+/// The paper's draw: every receiver, each pass, with the paper's program. Since each patch's
+/// geometry is already in the patch textures, one quad over the whole atlas draws every receiver
+/// at once: each fragment reads its patch, and a texel that is no patch adds nothing (the same
+/// lightmaps as drawing each receiver's rectangle, bit for bit, in a fraction of the time on
+/// llvmpipe: perf-log, 2026-12-07 late). The shooters' texels are drawn too, which clears their
+/// unshot energy.
 pub(crate) struct WholeAtlas {
-    /// Two triangles over each receiver's lightmap rectangle, in clip space: made once, since
-    /// the paper draws the same receivers every pass.
-    rectangles: Mesh,
+    /// Two triangles over the atlas, in clip space (`glsl/atlas.vert`'s `Corner`, and its `Size`,
+    /// which only points use).
+    atlas: Mesh,
     /// The polygons with patches, and per polygon whether it is one of them.
     receivers: Vec<usize>,
     receives: Vec<bool>,
-    /// Texels the rectangles cover.
+    /// The atlas's texels.
     texels: usize,
 }
 
@@ -507,34 +510,28 @@ impl WholeAtlas {
             .map(|&n| n > 0)
             .collect();
         let receivers: Vec<usize> = (0..receives.len()).filter(|&p| receives[p]).collect();
-        let size = (layout.atlas_width as f32, layout.atlas_height as f32);
-        let ndc = |t: u32, extent: f32| t as f32 / extent * 2.0 - 1.0;
-        let (mut vertices, mut texels) = (Vec::new(), 0);
-        for &p in &receivers {
-            let [x0, y0, x1, y1] = layout.lightmaps[p].texels();
-            texels += ((x1 - x0) * (y1 - y0)) as usize;
-            let (u0, v0, u1, v1) = (
-                ndc(x0, size.0),
-                ndc(y0, size.1),
-                ndc(x1, size.0),
-                ndc(y1, size.1),
-            );
-            for [u, v] in [[u0, v0], [u1, v0], [u1, v1], [u0, v0], [u1, v1], [u0, v1]] {
-                // glsl/atlas.vert's Corner, and its Size (points only).
-                vertices.extend_from_slice(&[u, v, 0.0]);
-            }
+        let mut vertices = Vec::new();
+        for [u, v] in [
+            [-1.0, -1.0],
+            [1.0, -1.0],
+            [1.0, 1.0],
+            [-1.0, -1.0],
+            [1.0, 1.0],
+            [-1.0, 1.0],
+        ] {
+            vertices.extend_from_slice(&[u, v, 0.0f32]);
         }
-        let corner = |location, size, offset| Attribute {
+        let attribute = |location, size, offset| Attribute {
             location,
             size,
             offset,
         };
-        let rectangles = Mesh::new(gl, &vertices, 3, &[corner(0, 2, 0), corner(1, 1, 2)])?;
+        let atlas = Mesh::new(gl, &vertices, 3, &[attribute(0, 2, 0), attribute(1, 1, 2)])?;
         Ok(WholeAtlas {
-            rectangles,
+            atlas,
             receivers,
             receives,
-            texels,
+            texels: (layout.atlas_width * layout.atlas_height) as usize,
         })
     }
 }
@@ -559,7 +556,7 @@ impl AtlasDraw for WholeAtlas {
     fn draw(&mut self, ctx: &GlContext, pass: &Pass) {
         unsafe { ctx.gl.viewport(0, 0, pass.size.0, pass.size.1) };
         pass.uniforms.set(pass.programs.paper.get(pass.quad));
-        self.rectangles.draw();
+        self.atlas.draw();
         unsafe { ctx.gl.active_texture(glow::TEXTURE0) };
     }
 
