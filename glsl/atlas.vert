@@ -1,7 +1,7 @@
 #version 130
-// Reconstruction pass, vertex stage: squares of the atlas covering the lightmaps of the
-// receivers, given in clip space, as points of side Size texels (or as triangle corners, Size
-// unused); the fragment stage reads each patch's geometry from the atlas textures
+// Reconstruction pass, vertex stage: the paper's one quad over the whole atlas (or the llvmpipe
+// engine's squares of it), given in clip space, as triangle corners (Size unused) or as points
+// of side Size texels; the fragment stage reads each patch's geometry from the atlas textures
 // patchdata.frag wrote.
 
 in vec2 Corner;

@@ -490,7 +490,7 @@ pub(crate) trait AtlasDraw: Any {
 /// geometry is already in the patch textures, one quad over the whole atlas draws every receiver
 /// at once: each fragment reads its patch, and a texel that is no patch adds nothing (the same
 /// lightmaps as drawing each receiver's rectangle, bit for bit, in a fraction of the time on
-/// llvmpipe: perf-log, 2026-12-07 late). The shooters' texels are drawn too, which clears their
+/// llvmpipe: perf-log, sixteenth session). The shooters' texels are drawn too, which clears their
 /// unshot energy.
 pub(crate) struct WholeAtlas {
     /// Two triangles over the atlas, in clip space (`glsl/atlas.vert`'s `Corner`, and its `Size`,
