@@ -295,8 +295,8 @@ impl<'a, B: Backend> Solver<'a, B> {
     }
 
     /// The books of a shot of `shooters` from the changed polygons' totals `before` it, judged
-    /// with the float noise of the atlas's sums: [`find_max_energy::EMITTED_NOISE`] of the emitted energy
-    /// per channel, in the ledger's energy units (Σ L·A).
+    /// with the float noise of the atlas's sums: [`find_max_energy::EMITTED_NOISE`] of the
+    /// emitted energy per channel, in the ledger's energy units (Σ L·A).
     fn balance_of(&self, shooters: &[Shooter], before: &[(usize, [f64; 3])]) -> ShotBalance {
         let floor =
             find_max_energy::EMITTED_NOISE * self.ledger.emitted_power() / std::f64::consts::PI;
@@ -497,7 +497,7 @@ impl<'a, B: Backend> Solver<'a, B> {
             let totals = self.ledger.totals();
             vec![whole_polygon(self.scene, own, totals, p, options.hemi_res)]
         } else {
-            self.cells_of(p, cell, remainder.unwrap_or(glam::Vec3::ZERO))
+            self.cells_of(p, cell, remainder.unwrap_or(Vec3::ZERO))
         };
         for s in &mut shooters {
             if let Some(remainder) = remainder {
@@ -524,7 +524,7 @@ impl<'a, B: Backend> Solver<'a, B> {
     /// Beyond the paper: polygon `p`'s cells of `cell` patches a side (`shooters::shooters_of`),
     /// as many and as finely cut as what the shot moves patch by patch asks for (with
     /// overshooting's `remainder` taken back, `shot_magnitude`), not what the polygon holds.
-    fn cells_of(&self, p: usize, cell: u32, remainder: glam::Vec3) -> Vec<Shooter> {
+    fn cells_of(&self, p: usize, cell: u32, remainder: Vec3) -> Vec<Shooter> {
         let own = self.backend.layout();
         let patch_area = self.ledger.patch_area(p);
         let unshot = self.backend.unshot();

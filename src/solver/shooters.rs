@@ -1,7 +1,8 @@
-//! Shooters: what carries a polygon's unshot energy in one shot. The paper shoots the whole
-//! polygon from its centroid; the accurate mode shoots each cell of K×K patches of its lightmap
-//! from the cell's energy-weighted centre, with the cell's outline (its rectangle clipped to the
-//! polygon) for the polygon form factor. The GPU and the CPU solvers share this code.
+//! Shooters beyond the paper: what carries a polygon's unshot energy in one shot. The paper
+//! shoots the whole polygon from its centroid (`progressive::whole_polygon`); the accurate mode
+//! shoots each cell of K×K patches of its lightmap from the cell's energy-weighted centre, with
+//! the cell's outline (its rectangle clipped to the polygon) for the polygon form factor. The GPU
+//! and the CPU solvers share this code.
 
 use super::{Shooter, SolveOptions, MAX_CORNERS};
 use crate::geometry::{bounds, clip_convex, rectangle, signed_area};
