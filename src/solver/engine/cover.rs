@@ -9,9 +9,9 @@
 //! diagonal crosses once for each; a thin rectangle of lightmaps costs about twice its area. A
 //! square drawn as one point is shaded block by block, once (`Tuning::squares_as_points`).
 
-use crate::gl::objects::Attribute;
 use crate::gl::{Gl, GlContext, GlError, Mesh};
 use crate::patches::PatchLayout;
+use crate::solver::reconstruction::ATLAS_VERTEX;
 use glow::HasContext;
 
 /// Squares are made of whole blocks of 4×4 texels: llvmpipe shades a block of 4×4 fragments at a
@@ -47,23 +47,7 @@ pub(crate) struct Squares {
 impl Squares {
     /// Squares over an atlas of `width` × `height` texels.
     pub(crate) fn new(gl: &Gl, width: i32, height: i32) -> Result<Self, GlError> {
-        let mesh = Mesh::new(
-            gl,
-            &[],
-            3,
-            &[
-                Attribute {
-                    location: 0,
-                    size: 2,
-                    offset: 0,
-                },
-                Attribute {
-                    location: 1,
-                    size: 1,
-                    offset: 2,
-                },
-            ],
-        )?;
+        let mesh = Mesh::new(gl, &[], 3, &ATLAS_VERTEX)?;
         let mut point_range = [0.0f32; 2];
         unsafe { gl.get_parameter_f32_slice(glow::ALIASED_POINT_SIZE_RANGE, &mut point_range) };
         let points_fit = point_range[1] >= BLOCK as f32;

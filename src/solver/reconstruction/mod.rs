@@ -486,6 +486,22 @@ pub(crate) trait AtlasDraw: Any {
     fn as_any(&self) -> &dyn Any;
 }
 
+/// The layout of `glsl/atlas.vert`'s vertices, three floats each: `Corner` (clip space), then
+/// `Size` (a point's side in texels; unused by triangles). The paper's quad and the engine's
+/// squares both draw with it.
+pub(crate) const ATLAS_VERTEX: [Attribute; 2] = [
+    Attribute {
+        location: 0,
+        size: 2,
+        offset: 0,
+    },
+    Attribute {
+        location: 1,
+        size: 1,
+        offset: 2,
+    },
+];
+
 /// The paper's draw: every receiver, each pass, with the paper's program. Since each patch's
 /// geometry is already in the patch textures, one quad over the whole atlas draws every receiver
 /// at once: each fragment reads its patch, and a texel that is no patch adds nothing (the same
@@ -493,8 +509,7 @@ pub(crate) trait AtlasDraw: Any {
 /// llvmpipe: perf-log, sixteenth session). The shooters' texels are drawn too, which clears their
 /// unshot energy.
 pub(crate) struct WholeAtlas {
-    /// Two triangles over the atlas, in clip space (`glsl/atlas.vert`'s `Corner`, and its `Size`,
-    /// which only points use).
+    /// Two triangles over the atlas, in clip space ([`ATLAS_VERTEX`]).
     atlas: Mesh,
     /// The polygons with patches, and per polygon whether it is one of them.
     receivers: Vec<usize>,
@@ -521,12 +536,7 @@ impl WholeAtlas {
         ] {
             vertices.extend_from_slice(&[u, v, 0.0f32]);
         }
-        let attribute = |location, size, offset| Attribute {
-            location,
-            size,
-            offset,
-        };
-        let atlas = Mesh::new(gl, &vertices, 3, &[attribute(0, 2, 0), attribute(1, 1, 2)])?;
+        let atlas = Mesh::new(gl, &vertices, 3, &ATLAS_VERTEX)?;
         Ok(WholeAtlas {
             atlas,
             receivers,
