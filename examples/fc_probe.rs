@@ -144,6 +144,7 @@ fn outline_shooter(p: usize, position: Vec3, normal: Vec3, pts: &[Vec3], e: Vec3
         remainder: Vec3::ZERO,
         hemi_res: 0,
         turn: 0.0,
+        parts: Default::default(),
     }
 }
 
@@ -211,10 +212,12 @@ fn shots(
         "S3 solver",
         "S4 S3 hull outline",
         "S5 S0, vis from point",
+        "S6 S5 in front of the point's plane",
+        "S7 S6 within 3 extents, S3 beyond",
     ];
     // totals over clusters: [variant][members, same material near, elsewhere]
-    let mut total = [[0f64; 4]; 6];
-    let mut moved = [0f64; 6];
+    let mut total = [[0f64; 4]; 8];
+    let mut moved = [0f64; 8];
     let mut all_e = 0f64;
     let mut k = 0;
     for &root in roots.iter().step_by(step).take(n) {
@@ -327,20 +330,39 @@ fn shots(
             })
             .collect();
         let variants: [Vec<Shooter>; 6] = [s0, s1, vec![s2], vec![s3], vec![s4], s6];
-        let deltas: Vec<Vec<f64>> = variants
+        let mut deltas: Vec<Vec<f64>> = variants
             .iter()
             .map(|v| {
                 receivers
                     .par_iter()
                     .map(|r| {
                         v.iter()
-                            .map(|s| delta(r, s, FormFactorKind::Polygon, slack, &bvh).x as f64)
+                            .map(|s| {
+                                delta(r, s, &[], FormFactorKind::Polygon, slack, &bvh).x as f64
+                            })
                             .sum::<f64>()
                     })
                     .collect()
             })
             .collect();
         let reach = (3.0 * extent).max(layout.patch_size);
+        // S6: the item buffer's hemisphere sees nothing behind the point's plane; S7: the
+        // members' outlines only near the cluster, its flat rectangle beyond.
+        let front_of = |r: &Receiver| (r.centre - s3.position).dot(mean) > 0.0;
+        let s6d: Vec<f64> = (receivers.iter().zip(&deltas[5]))
+            .map(|(r, &d)| if front_of(r) { d } else { 0.0 })
+            .collect();
+        let s7d: Vec<f64> = (receivers.iter().enumerate())
+            .map(|(i, r)| {
+                if (r.centre - s3.position).length() < reach {
+                    s6d[i]
+                } else {
+                    deltas[3][i]
+                }
+            })
+            .collect();
+        deltas.push(s6d);
+        deltas.push(s7d);
         // clearance: nearest non-member polygon in front of the raised plane within the node's box
         // grown by its extent: distance from the shooter's point (approx: to its vertices/centroid)
         let top = s3.position.dot(mean);
