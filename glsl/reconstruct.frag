@@ -47,6 +47,21 @@ uniform vec3 ShootCorners[12 * SHOOTERS]; // each shooter's outline, counter-clo
 uniform int ShootCornerCount[SHOOTERS];
 uniform float ShootArea[SHOOTERS]; // area of that outline
 
+// Beyond the paper (face clusters, src/solver/cluster_parts.rs): a face cluster's members as its
+// shot's near field. Receivers nearer shooter k's point than ShootReach[k] get the members' own
+// outlines and normals instead of its one flat outline: ShootParts rows ShootPartRows[k].x and
+// on, ShootPartRows[k].y of them (0 for every other shooter). A row: texel 0 the member's share
+// of the shooter's energy over its outline's area (RGB) and its corner count, texel 1 its
+// normal, then its corners.
+// FACE_CLUSTERS (defined by the host): 1 when the solve shoots from face clusters; without, none
+// of this is compiled.
+#ifndef FACE_CLUSTERS
+#define FACE_CLUSTERS 0
+#endif
+uniform sampler2D ShootParts;
+uniform ivec2 ShootPartRows[SHOOTERS];
+uniform float ShootReach[SHOOTERS];
+
 uniform int HemiCube;              // 0: hemispherical projection (paper), 1: hemicube
 uniform int Robust;                // 0: nearest pixel's ID (paper); 1: ID, or the shown plane
 uniform sampler2D PolygonPlanes;   // per polygon ID (row-major, width PlanesWidth): n, n.x
@@ -143,6 +158,22 @@ float EdgeTerm(vec3 a, vec3 b)
 // need no clipping with the cheaper variant. Where nothing is clipped both compute the same sum,
 // up to float rounding (tests/tuning.rs:
 // skipping_needless_clipping_changes_nothing_but_float_noise).
+// One edge of a contour clipped to the receiver's side of its tangent plane (see
+// PolygonFormFactor): a and b relative to the receiver, da and db their heights above the plane.
+// Adds the edge's part above the plane to sum, and records where the contour leaves the side
+// (exit_point) and comes back (entry_point).
+void ClippedEdge(vec3 a, float da, vec3 b, float db, inout float sum, inout vec3 exit_point,
+                 inout vec3 entry_point)
+{
+    bool above_a = da > 0.0;
+    bool crossing = above_a != (db > 0.0);
+    vec3 p = a + (b - a) * (crossing ? da / (da - db) : 0.0);
+    exit_point = (crossing && above_a) ? p : exit_point;
+    entry_point = (crossing && !above_a) ? p : entry_point;
+    float term = EdgeTerm((crossing && !above_a) ? p : a, (crossing && above_a) ? p : b);
+    sum += (above_a || db > 0.0) ? term : 0.0;
+}
+
 #ifndef SHOOTER_ABOVE
 #define SHOOTER_ABOVE 0
 #endif
@@ -191,13 +222,7 @@ float PolygonFormFactor(int k)
         vec3 b = ShootCorners[c0 + i] - RecvPos;
         float db = dot(b, RecvNormal);
         highest = max(highest, db);
-        bool above_a = da > 0.0;
-        bool crossing = above_a != (db > 0.0);
-        vec3 p = a + (b - a) * (crossing ? da / (da - db) : 0.0);
-        exit_point = (crossing && above_a) ? p : exit_point;
-        entry_point = (crossing && !above_a) ? p : entry_point;
-        float term = EdgeTerm((crossing && !above_a) ? p : a, (crossing && above_a) ? p : b);
-        sum += (above_a || db > 0.0) ? term : 0.0;
+        ClippedEdge(a, da, b, db, sum, exit_point, entry_point);
         a = b;
         da = db;
     }
@@ -207,12 +232,52 @@ float PolygonFormFactor(int k)
     return min(abs(sum) / (2.0 * pi), 1.0);
 }
 
+// Beyond the paper: Σ over shooter k's parts (its members) of weight × the factor to the part's
+// outline, clipped as PolygonFormFactor's; zero beyond ShootReach[k]. The loop's count is zero
+// there, so a block of far fragments runs no iteration (llvmpipe runs both sides of a branch).
+vec3 PartsFactor(int k)
+{
+    vec3 sum = vec3(0.0);
+    int rows = distance(RecvPos, ShootPos[k]) < ShootReach[k] ? ShootPartRows[k].y : 0;
+    for (int m = 0; m < rows; ++m) {
+        int row = ShootPartRows[k].x + m;
+        vec4 head = texelFetch(ShootParts, ivec2(0, row), 0);
+        vec3 normal = texelFetch(ShootParts, ivec2(1, row), 0).xyz;
+        int count = int(head.w);
+        vec3 a = texelFetch(ShootParts, ivec2(1 + count, row), 0).xyz - RecvPos;
+        bool facing = dot(normal, -a) > PlaneSlack;
+        float da = dot(a, RecvNormal);
+        float highest = da;
+        float part = 0.0;
+        vec3 exit_point = vec3(0.0);
+        vec3 entry_point = vec3(0.0);
+        for (int i = 0; i < count; ++i) {
+            vec3 b = texelFetch(ShootParts, ivec2(2 + i, row), 0).xyz - RecvPos;
+            float db = dot(b, RecvNormal);
+            highest = max(highest, db);
+            ClippedEdge(a, da, b, db, part, exit_point, entry_point);
+            a = b;
+            da = db;
+        }
+        part += EdgeTerm(exit_point, entry_point);
+        bool seen = facing && highest > PlaneSlack;
+        sum += head.rgb * (seen ? min(abs(part) / (2.0 * pi), 1.0) : 0.0);
+    }
+    return sum;
+}
+
 // Code 2: form factor and received energy from shooter k (for a visible receiver).
 vec3 FormFactorEnergy(int k)
 {
     float F;
     if (FORM_FACTOR_KIND == 1) {
         F = PolygonFormFactor(k) / ShootArea[k];
+#if FACE_CLUSTERS
+        // Near a face cluster, its members' own outlines (ShootReach is 0 for other shooters).
+        vec3 near = PartsFactor(k);
+        bool parts = distance(RecvPos, ShootPos[k]) < ShootReach[k];
+        return ShootEnergy[k] * RecvColor * (parts ? near : vec3(max(F, 0.0)));
+#endif
     } else {
         vec3 r = ShootPos[k] - RecvPos;
         float distance = dot(r, r);

@@ -184,6 +184,10 @@ impl Program {
     pub fn set_f32_array(&self, name: &'static str, v: &[f32]) {
         unsafe { self.gl.uniform_1_f32_slice(self.location(name).as_ref(), v) }
     }
+    /// Set the uniform `name`, an `ivec2[]` (two ints each).
+    pub fn set_ivec2_array(&self, name: &'static str, v: &[i32]) {
+        unsafe { self.gl.uniform_2_i32_slice(self.location(name).as_ref(), v) }
+    }
     /// Set the uniform `name`, an `ivec4[]` (four ints each).
     pub fn set_ivec4_array(&self, name: &'static str, v: &[i32]) {
         unsafe { self.gl.uniform_4_i32_slice(self.location(name).as_ref(), v) }

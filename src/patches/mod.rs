@@ -67,6 +67,15 @@ impl Lightmap {
         (corners, outline.len().min(N), area)
     }
 
+    /// The outline of this lightmap's polygon (its `vertices`), as at most `N` world corners
+    /// with their area: the polygon's own corners, or the lightmap's rectangle where it has
+    /// more than `N`.
+    pub fn polygon_outline<const N: usize>(&self, vertices: &[Vec3]) -> ([Vec3; N], usize, f32) {
+        let outline: Vec<Vec2> = vertices.iter().map(|&v| self.texel_of(v)).collect();
+        let rect = crate::geometry::rectangle(Vec2::ZERO, Vec2::new(self.w as f32, self.h as f32));
+        self.world_outline(if outline.len() <= N { &outline } else { &rect })
+    }
+
     /// Lightmap texel coordinates (not atlas) of a world point on the polygon's plane.
     pub fn texel_of(&self, p: Vec3) -> Vec2 {
         let d = p - self.origin;

@@ -279,6 +279,7 @@ pub fn cluster_shooter(
         remainder: Vec3::ZERO,
         hemi_res: 0,
         turn: 0.0,
+        parts: Default::default(),
     })
 }
 

@@ -7,9 +7,9 @@
 //! emitted power), as one `Shooter` (`ClusterChoice::cluster_of`: the members' summed energy,
 //! cleared before the passes and counted as carried in the books, as `clusters.rs`'s are), from the
 //! member nearest the power-weighted centre, along the mean normal, with the members' rectangle
-//! on that plane as the form factor's outline; by reciprocity it delivers no more than it
-//! carries, and only its direction errs. Flat clusters are left to `clusters.rs`, so a scene
-//! without small non-coplanar polygons shoots as without.
+//! on that plane as the form factor's outline, and near the cluster the members' own outlines
+//! (`cluster_parts.rs`); by reciprocity it delivers no more than it carries. Flat clusters are
+//! left to `clusters.rs`, so a scene without small non-coplanar polygons shoots as without.
 //!
 //! Why: `clusters.rs` groups only coplanar neighbours, so every facet of a column, a chair's seat
 //! or a vault shoots alone, with its own visibility pass. Neighbouring facets whose normals
@@ -97,6 +97,10 @@ impl PartialOrd for Candidate {
     }
 }
 
+/// Most members a face cluster may shoot with ([`Bound::allows`]): every receiver near its shot
+/// sums a factor per member (`cluster_parts.rs`).
+pub const MAX_PARTS: u32 = 32;
+
 /// A cone this narrow (radians) counts as flat (`FaceClusters::shot_of`).
 pub const FLAT: f32 = 1e-3;
 
@@ -113,10 +117,12 @@ pub struct Bound {
 }
 
 impl Bound {
-    /// Whether `node` may shoot as one carrying `power` (its shooting members' unshot power).
+    /// Whether `node` may shoot as one carrying `power` (its shooting members' unshot power):
+    /// also, no more members than a shot's near field sums ([`MAX_PARTS`]).
     pub fn allows(&self, node: &Node, power: f64) -> bool {
         let extent = (node.hi - node.lo).max_element();
-        misdirected(node.cone, power) <= self.power
+        node.size <= MAX_PARTS
+            && misdirected(node.cone, power) <= self.power
             && (power < self.power || extent <= self.fine_reach)
     }
 }

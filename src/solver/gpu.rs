@@ -7,7 +7,7 @@
 use super::progressive::{Backend, Solver};
 use super::reconstruction::{Lightmaps, ReconstructionPass};
 use super::visibility::VisibilityPass;
-use super::{engine, mesh, Shooter, SolveError, SolveOptions, VisibilityKind};
+use super::{engine, mesh, Part, Shooter, SolveError, SolveOptions, VisibilityKind};
 use crate::gl::GlContext;
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
@@ -190,6 +190,10 @@ impl Backend for GpuBackend<'_> {
         // Every polygon may have changed.
         self.touched.extend(0..self.reconstruction.texels().len());
         Ok(())
+    }
+
+    fn parts(&mut self, parts: &[Part]) -> Result<(), SolveError> {
+        Ok(self.reconstruction.set_parts(self.ctx, parts)?)
     }
 
     fn clear_unshot(&mut self, polygons: &[usize]) -> Result<(), SolveError> {

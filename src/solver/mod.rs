@@ -14,6 +14,7 @@
 //! beyond the paper that change the answer (`SolveOptions::overshoot`, `small_hemi_res`,
 //! `rotate_item_buffer`, `shooters_per_pass`).
 
+pub mod cluster_parts;
 pub mod clusters;
 pub mod cpu;
 pub mod engine;
@@ -32,6 +33,7 @@ pub mod shooters;
 pub mod tuning;
 pub mod visibility;
 
+pub use cluster_parts::{Part, PartRows};
 pub use clusters::Member;
 pub use cpu::CpuSolver;
 pub use find_max_energy::{Ledger, PassTimes};
@@ -196,6 +198,9 @@ pub struct Shooter {
     /// Turn of the item buffer about the normal, radians (`SolveOptions::rotate_item_buffer`;
     /// 0 in the paper).
     pub turn: f32,
+    /// Beyond the paper: a face cluster's members, shot with their own outlines at receivers
+    /// near it (`cluster_parts.rs`); none for every other shooter.
+    pub parts: PartRows,
 }
 
 /// One shot, as reported in `stats.json`'s history.
@@ -239,6 +244,7 @@ mod tests {
             remainder: Vec3::ZERO,
             hemi_res: 64,
             turn,
+            parts: PartRows::default(),
         }
     }
 

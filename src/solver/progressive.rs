@@ -18,16 +18,16 @@
 //! paper does, [`CpuBackend`](super::cpu::CpuBackend) in Rust with exact visibility. [`Solver`]
 //! runs the loop and keeps the books ([`Ledger`]); `GpuSolver` and `CpuSolver` name the two.
 
+use super::cluster_parts::{self, Part};
 use super::clusters::{self, ClusterChoice, Clusters, Member};
 use super::face_clusters::FaceClusters;
 use super::find_max_energy::{self, EnergyTotals, Ledger, PassTimes, ShotBalance};
 use super::overshoot::Overshoot;
 use super::pass_names::{ACCUMULATION, FIND_MAX_ENERGY, READBACK, RECONSTRUCTION, VISIBILITY};
 use super::{shooters, Shooter, ShotRecord, SolveError, SolveOptions, MAX_CORNERS};
-use crate::geometry::rectangle;
 use crate::patches::{Lightmap, PatchLayout};
 use crate::scene::Scene;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use std::time::{Duration, Instant};
 
 /// The passes of one shot, as a backend does them. Atlases are RGBA (alpha: polygon ID + 1), in
@@ -65,6 +65,9 @@ pub trait Backend {
     /// Beyond the paper (clusters): zero the unshot radiance of every patch of `polygons`
     /// before a shot's passes, as their cluster's shot carries it; they count as changed.
     fn clear_unshot(&mut self, polygons: &[usize]) -> Result<(), SolveError>;
+    /// Beyond the paper (face clusters): the parts the next passes' shooters point at
+    /// (`Shooter::parts`, `cluster_parts.rs`).
+    fn parts(&mut self, parts: &[Part]) -> Result<(), SolveError>;
 }
 
 /// Progressive refinement radiosity on a backend `B`: the paper's loop and its bookkeeping.
@@ -240,7 +243,7 @@ impl<'a, B: Backend> Solver<'a, B> {
         polygons.dedup();
         let before = self.ledger.unshot_power();
         let shot_power: f64 = shooters.iter().map(|s| s.power()).sum();
-        let own: Vec<Shooter> = shooters
+        let mut own: Vec<Shooter> = shooters
             .iter()
             .map(|s| Shooter {
                 texels: move_rect(
@@ -260,6 +263,9 @@ impl<'a, B: Backend> Solver<'a, B> {
             self.cluster_shots += 1;
             if members.iter().any(|m| m.face) {
                 self.face_cluster_shots += 1;
+                let parts = cluster_parts::parts_of(self.scene, self.layout, &mut own, members);
+                let (backend, times) = (&mut self.backend, &mut self.ledger.times);
+                times.time(RECONSTRUCTION, || backend.parts(&parts))?;
             }
         }
         self.run_passes(&own, true)?;
@@ -724,14 +730,7 @@ fn whole_polygon(
 ) -> Shooter {
     let polygon = &scene.polygons[p];
     let lm = &layout.lightmaps[p];
-    let outline: Vec<Vec2> = polygon.vertices.iter().map(|&v| lm.texel_of(v)).collect();
-    let rect = rectangle(Vec2::ZERO, Vec2::new(lm.w as f32, lm.h as f32));
-    let corners = if outline.len() <= MAX_CORNERS {
-        &outline[..]
-    } else {
-        &rect[..]
-    };
-    let (corners, corner_count, area) = lm.world_outline(corners);
+    let (corners, corner_count, area) = lm.polygon_outline::<MAX_CORNERS>(&polygon.vertices);
     Shooter {
         polygon: p,
         texels: lm.texels(),
@@ -745,6 +744,7 @@ fn whole_polygon(
         remainder: Vec3::ZERO,
         hemi_res,
         turn: 0.0,
+        parts: Default::default(),
     }
 }
 

@@ -187,6 +187,7 @@ pub fn shooters_of(
             remainder: Vec3::ZERO,
             hemi_res: options.hemi_res,
             turn: 0.0,
+            parts: Default::default(),
         });
     }
     // The order of the parts does not change the result but keeps it easy to follow (row by row).

@@ -7,7 +7,7 @@
 pub mod reconstruction;
 
 use super::progressive::{Backend, Solver};
-use super::{Shooter, SolveError, SolveOptions};
+use super::{Part, Shooter, SolveError, SolveOptions};
 use crate::patches::PatchLayout;
 use crate::scene::bvh::Bvh;
 use crate::scene::Scene;
@@ -32,6 +32,8 @@ pub struct CpuBackend<'a> {
     unshot: Vec<f32>,
     /// Which polygons the current shot changed.
     marked: Vec<bool>,
+    /// The step's face-cluster parts (`Backend::parts`).
+    parts: Vec<Part>,
     pool: rayon::ThreadPool,
 }
 
@@ -100,6 +102,7 @@ impl<'a> CpuBackend<'a> {
             slack: scene.plane_slack(),
             bvh: Bvh::new(scene),
             deltas: vec![Vec3::ZERO; receivers.len()],
+            parts: Vec::new(),
             receivers,
             radiosity,
             unshot,
@@ -126,7 +129,7 @@ impl Backend for CpuBackend<'_> {
 
     fn reconstruction(&mut self, shooters: &[Shooter]) -> Result<(), SolveError> {
         let (bvh, receivers, kind) = (&self.bvh, &self.receivers, self.form_factor);
-        let slack = self.slack;
+        let (slack, parts) = (self.slack, &self.parts[..]);
         let deltas = &mut self.deltas;
         // Each receiver's ΔL from every shooter, summed in the shooters' order (as the shader).
         self.pool.install(|| {
@@ -135,7 +138,7 @@ impl Backend for CpuBackend<'_> {
                 .zip(receivers.par_iter())
                 .for_each(|(d, r)| {
                     *d = shooters.iter().fold(Vec3::ZERO, |sum, s| {
-                        sum + reconstruction::delta(r, s, kind, slack, bvh)
+                        sum + reconstruction::delta(r, s, parts, kind, slack, bvh)
                     })
                 });
         });
@@ -187,6 +190,11 @@ impl Backend for CpuBackend<'_> {
         self.radiosity.copy_from_slice(radiosity);
         self.unshot.copy_from_slice(unshot);
         self.marked.fill(true);
+        Ok(())
+    }
+
+    fn parts(&mut self, parts: &[Part]) -> Result<(), SolveError> {
+        self.parts = parts.to_vec();
         Ok(())
     }
 

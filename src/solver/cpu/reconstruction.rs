@@ -2,7 +2,7 @@
 //! form factors as `glsl/reconstruct.frag` (`solver::form_factor`) and exact visibility.
 
 use crate::scene::bvh::Bvh;
-use crate::solver::{form_factor, FormFactorKind, Shooter};
+use crate::solver::{form_factor, FormFactorKind, Part, Shooter};
 use glam::Vec3;
 
 /// A receiving patch: its atlas texel, polygon, centre, normal and reflectance.
@@ -21,14 +21,32 @@ pub struct Receiver {
 }
 
 /// ΔL at `r` from `s` (zero on the shooter's own polygon: a planar shooter sends it nothing);
-/// `slack`: `Scene::plane_slack`, for the polygon factor.
-pub fn delta(r: &Receiver, s: &Shooter, kind: FormFactorKind, slack: f32, bvh: &Bvh) -> Vec3 {
+/// `parts`: the step's, which `s.parts` points at (beyond the paper: a face cluster's members,
+/// near it); `slack`: `Scene::plane_slack`, for the polygon factor.
+pub fn delta(
+    r: &Receiver,
+    s: &Shooter,
+    parts: &[Part],
+    kind: FormFactorKind,
+    slack: f32,
+    bvh: &Bvh,
+) -> Vec3 {
     if r.polygon as usize == s.polygon {
         return Vec3::ZERO;
     }
+    let near = r.centre.distance(s.position) < s.parts.reach;
     let received = match kind {
         FormFactorKind::Point => {
             s.energy * form_factor::point(r.centre, r.normal, s.position, s.normal)
+        }
+        FormFactorKind::Polygon if near => {
+            let rows = s.parts.first as usize..(s.parts.first + s.parts.count) as usize;
+            let factor =
+                |p: &Part| form_factor::polygon(r.centre, r.normal, p.outline(), p.normal, slack);
+            s.energy
+                * parts[rows]
+                    .iter()
+                    .fold(Vec3::ZERO, |sum, p| sum + p.weight * factor(p))
         }
         FormFactorKind::Polygon => {
             let outline = &s.corners[..s.corner_count];

@@ -79,7 +79,7 @@ impl MarkedPrograms {
         let gl = &ctx.gl;
         let compile = |source: Source| compile(gl, source);
         let shooters = options.shooters_per_pass.max(1);
-        let frag = || fragment(shooters, compiled);
+        let frag = || fragment(shooters, compiled, options);
         let marked = || frag().define("MARKED", 1);
         let above = || marked().define("SHOOTER_ABOVE", 1);
         let tuning: &Tuning = &options.tuning;
@@ -98,9 +98,9 @@ impl MarkedPrograms {
             None
         };
         let one = if tuning.walk_receivers() && tuning.marking_pass && shooters > 1 {
-            let marked = || fragment(1, compiled).define("MARKED", 1);
+            let marked = || fragment(1, compiled, options).define("MARKED", 1);
             Some(OneShooter {
-                marking: compile(fragment(1, compiled).define("MARK", 1))?,
+                marking: compile(fragment(1, compiled, options).define("MARK", 1))?,
                 marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
             })
         } else {
@@ -109,7 +109,7 @@ impl MarkedPrograms {
         let few = if one.is_some() && tuning.few_shooter_programs() {
             (2..shooters.min(FEW + 1))
                 .map(|k| {
-                    let marked = || fragment(k, compiled).define("MARKED", 1);
+                    let marked = || fragment(k, compiled, options).define("MARKED", 1);
                     Ok(FewShooters {
                         marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
                     })

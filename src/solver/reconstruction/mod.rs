@@ -30,9 +30,10 @@ pub(crate) use patch_data::PolygonPlanes;
 pub use programs::ProgramVariants;
 pub(crate) use programs::{compile, fragment, Choices};
 
+use super::cluster_parts::ROW_TEXELS;
 use super::pass_names::{ACCUMULATION, INITIALISATION, RECONSTRUCTION};
 use super::visibility::VisibilityPass;
-use super::{FormFactorKind, Shooter, SolveOptions, VisibilityKind, MAX_SHOOTERS_PER_PASS};
+use super::{FormFactorKind, Part, Shooter, SolveOptions, VisibilityKind, MAX_SHOOTERS_PER_PASS};
 use crate::gl::faults::{self, Fault};
 use crate::gl::objects::Attribute;
 use crate::gl::program::Source;
@@ -166,6 +167,8 @@ pub struct ReconstructionPass {
     pub touched: Vec<usize>,
     /// Passes drawn with the programs unrolled for quadrilateral shooters so far.
     pub quad_passes: u32,
+    /// Beyond the paper: the face clusters' parts of the step (`cluster_parts.rs`), a row each.
+    parts: Texture,
 }
 
 impl ReconstructionPass {
@@ -209,7 +212,23 @@ impl ReconstructionPass {
             draw,
             touched: Vec::new(),
             quad_passes: 0,
+            parts: parts_texture(gl, 1)?,
         })
+    }
+
+    /// Beyond the paper (face clusters): give the next passes `parts`, the rows their
+    /// shooters' `parts` point at (`glsl/reconstruct.frag`'s `ShootParts`).
+    pub fn set_parts(&mut self, ctx: &GlContext, parts: &[Part]) -> Result<(), GlError> {
+        let rows = parts.len().max(1);
+        if rows > self.parts.height as usize {
+            self.parts = parts_texture(&ctx.gl, rows.next_power_of_two() as i32)?;
+        }
+        let mut data = vec![0.0f32; self.parts.height as usize * PART_WIDTH * 4];
+        for (row, part) in data.chunks_exact_mut(PART_WIDTH * 4).zip(parts) {
+            row[..ROW_TEXELS * 4].copy_from_slice(part.texels().as_flattened());
+        }
+        self.parts.upload_f32(&data);
+        ctx.check(RECONSTRUCTION)
     }
 
     /// What each pass draws.
@@ -317,6 +336,7 @@ impl ReconstructionPass {
         lightmaps.radiosity.bind(UNITS.lightmap_radiosity);
         lightmaps.unshot.bind(UNITS.lightmap_unshot);
         self.planes.texture.bind(UNITS.polygon_planes);
+        self.parts.bind(UNITS.parts);
         let (position, normal, reflectance) = (
             UNITS.patch_position,
             UNITS.patch_normal,
@@ -617,6 +637,20 @@ impl Variants {
     }
 }
 
+/// The width of the parts' texture: a row of `ROW_TEXELS`, rounded up to a power of two.
+const PART_WIDTH: usize = ROW_TEXELS.next_power_of_two();
+
+/// A texture for `rows` parts, a row each (`ReconstructionPass::set_parts`).
+fn parts_texture(gl: &Gl, rows: i32) -> Result<Texture, GlError> {
+    Texture::new(
+        gl,
+        PART_WIDTH as i32,
+        rows,
+        TextureFormat::Rgba32F,
+        glow::NEAREST,
+    )
+}
+
 /// The texture unit of each texture `glsl/reconstruct.frag` samples (named after its sampler).
 pub(crate) struct TextureUnits {
     /// `HemiItemBuffer[k]`: shooter k's item buffer.
@@ -631,10 +665,13 @@ pub(crate) struct TextureUnits {
     pub patch_position: u32,
     pub patch_normal: u32,
     pub patch_reflectance: u32,
+    /// `ShootParts`: the face clusters' parts (beyond the paper).
+    pub parts: u32,
 }
 
 /// The pass's texture units: shooter 0's item buffer on unit 0 (the paper's one), the lightmaps,
-/// planes and patch data on 1 to 6, the other shooters' item buffers on 7 and up.
+/// planes and patch data on 1 to 6, the other shooters' item buffers on 7 to 13, the parts on 14
+/// (OpenGL 3.0 promises 16 units).
 pub(crate) const UNITS: TextureUnits = TextureUnits {
     item_buffers: [0, 7, 8, 9, 10, 11, 12, 13],
     lightmap_radiosity: 1,
@@ -643,6 +680,7 @@ pub(crate) const UNITS: TextureUnits = TextureUnits {
     patch_position: 4,
     patch_normal: 5,
     patch_reflectance: 6,
+    parts: 14,
 };
 
 /// The uniforms of one pass, the shooters' as arrays of one element per shooter (the corners:
@@ -659,6 +697,8 @@ pub(crate) struct Uniforms<'a> {
     corners: Vec<f32>,
     corner_counts: Vec<i32>,
     areas: Vec<f32>,
+    part_rows: Vec<i32>,
+    reaches: Vec<f32>,
     /// `UNITS.item_buffers` of the shooters.
     item_units: Vec<i32>,
     options: &'a SolveOptions,
@@ -687,6 +727,8 @@ impl<'a> Uniforms<'a> {
                 .collect(),
             corner_counts: per_shooter(shooters, |s| [s.corner_count as i32]),
             areas: per_shooter(shooters, |s| [s.area]),
+            part_rows: per_shooter(shooters, |s| [s.parts.first as i32, s.parts.count as i32]),
+            reaches: per_shooter(shooters, |s| [s.parts.reach]),
             item_units: (UNITS.item_buffers[..shooters.len()].iter())
                 .map(|&u| u as i32)
                 .collect(),
@@ -717,6 +759,9 @@ impl<'a> Uniforms<'a> {
         p.set_vec3_array("ShootCorners", &self.corners);
         p.set_i32_array("ShootCornerCount", &self.corner_counts);
         p.set_f32_array("ShootArea", &self.areas);
+        p.set_i32("ShootParts", unit(UNITS.parts));
+        p.set_ivec2_array("ShootPartRows", &self.part_rows);
+        p.set_f32_array("ShootReach", &self.reaches);
         let options = self.options;
         let polygon = options.form_factor == FormFactorKind::Polygon;
         p.set_i32("FormFactorKind", polygon as i32);
