@@ -232,13 +232,13 @@ float PolygonFormFactor(int k)
     return min(abs(sum) / (2.0 * pi), 1.0);
 }
 
-// Beyond the paper: Σ over shooter k's parts (its members) of weight × the factor to the part's
-// outline, clipped as PolygonFormFactor's; zero beyond ShootReach[k]. The loop's count is zero
-// there, so a block of far fragments runs no iteration (llvmpipe runs both sides of a branch).
-vec3 PartsFactor(int k)
+// Beyond the paper: Σ over the first `rows` of shooter k's parts (its members) of weight × the
+// factor to the part's outline, clipped as PolygonFormFactor's. The caller gives 0 rows beyond
+// ShootReach[k], so a block of far fragments runs no iteration (llvmpipe runs both sides of a
+// branch, but a loop only while a lane is in it).
+vec3 PartsFactor(int k, int rows)
 {
     vec3 sum = vec3(0.0);
-    int rows = distance(RecvPos, ShootPos[k]) < ShootReach[k] ? ShootPartRows[k].y : 0;
     for (int m = 0; m < rows; ++m) {
         int row = ShootPartRows[k].x + m;
         vec4 head = texelFetch(ShootParts, ivec2(0, row), 0);
@@ -274,9 +274,9 @@ vec3 FormFactorEnergy(int k)
         F = PolygonFormFactor(k) / ShootArea[k];
 #if FACE_CLUSTERS
         // Near a face cluster, its members' own outlines (ShootReach is 0 for other shooters).
-        vec3 near = PartsFactor(k);
-        bool parts = distance(RecvPos, ShootPos[k]) < ShootReach[k];
-        return ShootEnergy[k] * RecvColor * (parts ? near : vec3(max(F, 0.0)));
+        bool near = distance(RecvPos, ShootPos[k]) < ShootReach[k];
+        vec3 parts = PartsFactor(k, near ? ShootPartRows[k].y : 0);
+        return ShootEnergy[k] * RecvColor * (near ? parts : vec3(max(F, 0.0)));
 #endif
     } else {
         vec3 r = ShootPos[k] - RecvPos;
