@@ -13,7 +13,7 @@ use gpu_radiosity::pipeline;
 use gpu_radiosity::scene::bvh::Bvh;
 use gpu_radiosity::scene::Scene;
 use gpu_radiosity::solver::clusters::cluster_shooter;
-use gpu_radiosity::solver::cpu::reconstruction::{delta, Receiver};
+use gpu_radiosity::solver::cpu::reconstruction::{self, delta, Receiver};
 use gpu_radiosity::solver::face_clusters::{FaceClusters, FLAT};
 use gpu_radiosity::solver::{FormFactorKind, Shooter, MAX_CORNERS};
 use rayon::prelude::*;
@@ -158,29 +158,17 @@ fn shots(
     let fc = FaceClusters::new(scene, layout, 8, 20f32.to_radians());
     let slack = scene.plane_slack();
     let bvh = Bvh::new(scene);
-    let w = layout.atlas_width as usize;
-    let mut receivers = Vec::new();
-    let mut area = Vec::new();
-    for (texel, &owner) in layout.owner.iter().enumerate() {
-        if owner == 0 {
-            continue;
-        }
-        let p = owner as usize - 1;
-        let lm = &layout.lightmaps[p];
-        let (x, y) = (texel % w, texel / w);
-        let centre = lm.world(
-            (x - lm.x as usize) as f32 + 0.5,
-            (y - lm.y as usize) as f32 + 0.5,
-        );
-        receivers.push(Receiver {
-            texel,
-            polygon: p as u32,
-            centre,
-            normal: scene.polygons[p].normal,
+    // Unit reflectance: ΔL is then the incident radiance.
+    let receivers: Vec<Receiver> = (reconstruction::receivers(scene, layout).into_iter())
+        .map(|r| Receiver {
             rho: Vec3::ONE,
-        });
-        area.push(scene.polygons[p].area as f64 / layout.patches_per_polygon[p].max(1) as f64);
-    }
+            ..r
+        })
+        .collect();
+    let area: Vec<f64> = (receivers.iter())
+        .map(|r| r.polygon as usize)
+        .map(|p| scene.polygons[p].area as f64 / layout.patches_per_polygon[p].max(1) as f64)
+        .collect();
     let want = material.map(|m| scene.materials.iter().position(|x| &x.name == m).unwrap());
     let mut roots: Vec<u32> = fc
         .roots()

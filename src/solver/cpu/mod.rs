@@ -64,36 +64,12 @@ impl<'a> CpuBackend<'a> {
             .build()
             .map_err(|source| SolveError::Threads { threads, source })?;
         let n = layout.atlas_width as usize * layout.atlas_height as usize;
-        let (mut radiosity, mut receivers) = (vec![0f32; n * 4], Vec::new());
-        for (texel, &owner) in layout.owner.iter().enumerate() {
-            if owner == 0 {
-                continue;
-            }
-            let p = owner as usize - 1;
-            let polygon = &scene.polygons[p];
-            let material = scene.material(polygon);
-            let lm = &layout.lightmaps[p];
-            let (x, y) = (
-                texel % layout.atlas_width as usize,
-                texel / layout.atlas_width as usize,
-            );
-            let centre = lm.world(
-                (x - lm.x as usize) as f32 + 0.5,
-                (y - lm.y as usize) as f32 + 0.5,
-            );
-            receivers.push(Receiver {
-                texel,
-                polygon: p as u32,
-                centre,
-                normal: polygon.normal,
-                rho: material.kd,
-            });
-            radiosity[texel * 4..texel * 4 + 4].copy_from_slice(&[
-                material.ke.x,
-                material.ke.y,
-                material.ke.z,
-                owner as f32,
-            ]);
+        let receivers = reconstruction::receivers(scene, layout);
+        let mut radiosity = vec![0f32; n * 4];
+        for r in &receivers {
+            let ke = scene.material(&scene.polygons[r.polygon as usize]).ke;
+            let id = (r.polygon + 1) as f32;
+            radiosity[r.texel * 4..r.texel * 4 + 4].copy_from_slice(&[ke.x, ke.y, ke.z, id]);
         }
         let unshot = radiosity.clone();
         Ok(CpuBackend {

@@ -1,7 +1,9 @@
 //! The CPU twin of the reconstruction pass: ΔL for every patch from one shooter, with the same
 //! form factors as `glsl/reconstruct.frag` (`solver::form_factor`) and exact visibility.
 
+use crate::patches::PatchLayout;
 use crate::scene::bvh::Bvh;
+use crate::scene::Scene;
 use crate::solver::{form_factor, FormFactorKind, Part, Shooter};
 use glam::Vec3;
 
@@ -18,6 +20,35 @@ pub struct Receiver {
     pub normal: Vec3,
     /// Its polygon's reflectance (Kd).
     pub rho: Vec3,
+}
+
+/// Every patch of `layout` as a receiver: its texel's centre on its polygon, the polygon's
+/// normal and reflectance; in texel order.
+pub fn receivers(scene: &Scene, layout: &PatchLayout) -> Vec<Receiver> {
+    let width = layout.atlas_width as usize;
+    let owned = layout
+        .owner
+        .iter()
+        .enumerate()
+        .filter(|&(_, &owner)| owner != 0);
+    owned
+        .map(|(texel, &owner)| {
+            let p = owner as usize - 1;
+            let polygon = &scene.polygons[p];
+            let lm = &layout.lightmaps[p];
+            let (x, y) = (texel % width, texel / width);
+            Receiver {
+                texel,
+                polygon: p as u32,
+                centre: lm.world(
+                    (x - lm.x as usize) as f32 + 0.5,
+                    (y - lm.y as usize) as f32 + 0.5,
+                ),
+                normal: polygon.normal,
+                rho: scene.material(polygon).kd,
+            }
+        })
+        .collect()
 }
 
 /// ΔL at `r` from `s` (zero on the shooter's own polygon: a planar shooter sends it nothing);
