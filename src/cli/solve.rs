@@ -171,9 +171,9 @@ pub struct SolveArgs {
     /// Beyond the paper, for fewer shots on curved surfaces of many small faces: a small
     /// polygon shoots together with touching neighbours whose normals lie within 20° of their
     /// mean, as long as the power that may go astray stays below --cut-above of the emitted
-    /// power (needs --shooter-cell, --cluster-cell and --cut-above above 0, so nothing in
+    /// power and the cluster's point sees little of other polygons close in front (needs --shooter-cell, --cluster-cell and --cut-above above 0, so nothing in
     /// --mode paper; only in scenes of polygons of at most 4 patches on average).
-    /// `--face-clusters` or `--face-clusters true|false`. Default off.
+    /// `--face-clusters` or `--face-clusters true|false`. Default on (`--mode accurate`).
     #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
     pub face_clusters: Option<bool>,
     /// Make the material NAME emit light: emitted radiance R,G,B, as `Ke` in the MTL file (each 0

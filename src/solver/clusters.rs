@@ -23,12 +23,12 @@
 //! average more than [`AVERAGE_PATCHES`] patches (the Table 1 rooms, the Cornell boxes) have no
 //! clusters: their shots stay as they were.
 
+pub use super::cluster_shooter::cluster_shooter;
 use super::face_clusters::{self, FaceClusters};
 use super::find_max_energy::EnergyTotals;
-use super::{item_buffer_side, Shooter, SolveOptions, MAX_CORNERS};
+use super::{item_buffer_side, Shooter, SolveOptions};
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
-use glam::Vec3;
 use std::collections::BTreeMap;
 
 /// Scenes whose polygons have more patches than this on average form no clusters: their
@@ -197,90 +197,30 @@ fn touching(scene: &Scene, group: &[usize], tolerance: f32) -> Vec<Vec<usize>> {
     sets.into_values().filter(|s| s.len() > 1).collect()
 }
 
-/// The one shooter of cluster members `members` (each polygon with its unshot energy, Σ L·A RGB,
-/// of one sign: every channel ≥ 0, or every one ≤ 0; not all zero), owning no texels (the solver
-/// clears the members' own): it shoots their summed energy from the centroid of the member
-/// nearest their power-weighted centre (raised along a face cluster's `normal` to the highest
-/// member corner), along `normal` (a face cluster's mean normal, `face_clusters.rs`) or else
-/// that member's normal, with the rectangle around the members projected on the plane through
-/// that point as its outline (a flat emitter of their energy: by
-/// reciprocity it sends no more than it carries). `patches[p]` is polygon p's patch count.
-/// `None` when nothing is left to shoot. Its item-buffer side (`hemi_res`) and turn are the
-/// caller's to set (0 here).
-pub fn cluster_shooter(
+/// The hierarchy a solve with `options` shoots from on `scene` (laid out as `layout`), if any.
+/// Without cells, coarse clusters or a bound (the paper's mode) there is nothing to bound a face
+/// cluster's shot by; scenes of large polygons (the Table 1 rooms: their small non-coplanar ones
+/// would shoot 1–3 % fewer shots) shoot as without, as they do without coplanar clusters; and a
+/// hierarchy of flat clusters only (Lost Empire's blocks) would shoot nothing `clusters.rs` does
+/// not. Without one the reconstruction shader leaves the near field's code out.
+pub fn face_clusters(
     scene: &Scene,
-    patches: &[u32],
-    members: &[(usize, Vec3)],
-    normal: Option<Vec3>,
-) -> Option<Shooter> {
-    let weight = |e: Vec3| (e.x + e.y + e.z).abs() as f64;
-    let total: f64 = members.iter().map(|&(_, e)| weight(e)).sum();
-    if members.is_empty() || total <= 0.0 {
+    layout: &PatchLayout,
+    options: &SolveOptions,
+) -> Option<FaceClusters> {
+    let applies = options.face_clusters
+        && options.shooter_cell > 0
+        && options.cluster_cell > 0
+        && options.cut_above > 0.0
+        && small_polygons(scene, layout);
+    if !applies {
         return None;
     }
-    let centre = members.iter().fold(glam::DVec3::ZERO, |sum, &(p, e)| {
-        sum + scene.polygons[p].centroid.as_dvec3() * weight(e)
-    }) / total;
-    let centre = centre.as_vec3();
-    let lead = members.iter().map(|&(p, _)| p).min_by(|&a, &b| {
-        let d = |p: usize| scene.polygons[p].centroid.distance_squared(centre);
-        d(a).total_cmp(&d(b)).then(a.cmp(&b))
-    })?;
-    let polygon = &scene.polygons[lead];
-    let given = normal;
-    let normal = normal.unwrap_or(polygon.normal);
-    // (u, v, normal) is right-handed, so the rectangle's corners in (u, v) order run
-    // counter-clockwise seen from the front.
-    let (u, v) = normal.any_orthonormal_pair();
-    let (mut lo, mut hi) = (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN));
-    for &(p, _) in members {
-        for &x in &scene.polygons[p].vertices {
-            let at = glam::Vec2::new(x.dot(u), x.dot(v));
-            lo = lo.min(at);
-            hi = hi.max(at);
-        }
-    }
-    // A face cluster's point is raised along its mean normal to its highest member corner: from
-    // the lead's centroid, a convex cluster's light towards receivers between the lead's plane
-    // and the mean plane was blocked by the cluster itself (the living room's small shots
-    // delivered 2 points less of what they carried); above every member nothing of it is.
-    let lift = (given.is_some() && members.len() > 1).then(|| {
-        let height = |p: usize| scene.polygons[p].vertices.iter();
-        (members.iter().flat_map(|&(p, _)| height(p)))
-            .map(|&x| (x - polygon.centroid).dot(normal))
-            .fold(0f32, f32::max)
-    });
-    let position = polygon.centroid + normal * lift.unwrap_or(0.0);
-    let plane = normal * normal.dot(position);
-    let mut corners = [Vec3::ZERO; MAX_CORNERS];
-    for (c, (a, b)) in
-        corners
-            .iter_mut()
-            .zip([(lo.x, lo.y), (hi.x, lo.y), (hi.x, hi.y), (lo.x, hi.y)])
-    {
-        *c = plane + u * a + v * b;
-    }
-    let area = (hi.x - lo.x) * (hi.y - lo.y);
-    // Slivers in a line along the normal's plane would spread the energy over no area.
-    if area.is_nan() || area <= 0.0 {
-        return None;
-    }
-    let energy = members.iter().fold(Vec3::ZERO, |sum, &(_, e)| sum + e);
-    Some(Shooter {
-        polygon: lead,
-        texels: [0; 4],
-        patches: members.iter().map(|&(p, _)| patches[p]).sum(),
-        position,
-        normal,
-        energy,
-        corners,
-        corner_count: 4,
-        area,
-        remainder: Vec3::ZERO,
-        hemi_res: 0,
-        turn: 0.0,
-        parts: Default::default(),
-    })
+    let cone = super::FACE_CONE_DEGREES.to_radians();
+    let hierarchy = FaceClusters::new(scene, layout, options.cluster_cell, cone);
+    (hierarchy.nodes().iter())
+        .any(|n| n.children.is_some() && n.cone > face_clusters::FLAT)
+        .then_some(hierarchy)
 }
 
 /// A polygon whose unshot energy a cluster's shooter carries: the shooter's index among the
@@ -373,12 +313,13 @@ impl ClusterChoice<'_> {
     ) -> Option<(Shooter, Vec<Member>)> {
         let hierarchy = self.face_clusters?;
         let totals = self.totals;
-        let bound = face_clusters::Bound {
-            power: self.options.cut_above as f64 * self.emitted_power,
-            fine_reach: self.options.shooter_cell as f32 * self.layout.patch_size,
-        };
+        let bound = face_clusters::Bound::new(
+            self.options.cut_above,
+            self.emitted_power,
+            self.options.shooter_cell as f32 * self.layout.patch_size,
+        );
         let power = |q: usize| (!taken.contains(&q) && same_sign(q)).then(|| totals.magnitude(q));
-        let (members, normal) = hierarchy.shot_of(p, power, &bound)?;
+        let (members, normal) = hierarchy.shot_of(p, power, &bound, self.scene, self.layout)?;
         let members = (members.into_iter())
             .map(|q| (q, totals.energy_rgb(q)))
             .collect();
@@ -411,6 +352,7 @@ impl ClusterChoice<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
     use crate::patches::{PatchLayout, Resolution};
     use crate::scene::{Polygon, Scene};
 

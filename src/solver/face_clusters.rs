@@ -1,15 +1,17 @@
-//! Beyond the paper, behind `SolveOptions::face_clusters` (`--face-clusters`; issue 58):
-//! shooting from clusters of non-coplanar faces (face-cluster radiosity, Willmott, Heckbert &
-//! Garland 1999). A hierarchy over the small polygons of curved surfaces, each node a set of
-//! touching polygons whose normals stay within a cone. A small polygon picked by
+//! Beyond the paper, `SolveOptions::face_clusters` (`--face-clusters`, on in the accurate mode;
+//! issue 58): shooting from clusters of non-coplanar faces (face-cluster radiosity, Willmott,
+//! Heckbert & Garland 1999). A hierarchy over the small polygons of curved surfaces, each node a
+//! set of touching polygons whose normals stay within a cone. A small polygon picked by
 //! Find_Max_Energy shoots with the largest cluster around it that its error bound allows
 //! ([`FaceClusters::shot_of`], [`Bound`]: the [`misdirected`] power within `cut_above` of the
-//! emitted power), as one `Shooter` (`ClusterChoice::cluster_of`: the members' summed energy,
-//! cleared before the passes and counted as carried in the books, as `clusters.rs`'s are), from the
-//! member nearest the power-weighted centre, along the mean normal, with the members' rectangle
-//! on that plane as the form factor's outline, and near the cluster the members' own outlines
-//! (`cluster_parts.rs`); by reciprocity it delivers no more than it carries. Flat clusters are
-//! left to `clusters.rs`, so a scene without small non-coplanar polygons shoots as without.
+//! emitted power, and a shooting point that sees little of other polygons close in front,
+//! `cluster_near.rs`), as one `Shooter` (`ClusterChoice::cluster_of`: the members' summed energy,
+//! cleared before the passes and counted as carried in the books, as `clusters.rs`'s are), from
+//! the member nearest the power-weighted centre, along the mean normal, with the members'
+//! rectangle on that plane as the form factor's outline, and near the cluster the members' own
+//! outlines (`cluster_parts.rs`); by reciprocity it delivers no more than it carries. Flat
+//! clusters are left to `clusters.rs`, so a scene without small non-coplanar polygons shoots as
+//! without.
 //!
 //! Why: `clusters.rs` groups only coplanar neighbours, so every facet of a column, a chair's seat
 //! or a vault shoots alone, with its own visibility pass. Neighbouring facets whose normals
@@ -23,6 +25,7 @@
 //! power-free geometry, so that a shot can choose, polygon by polygon, the largest ancestor
 //! whose error bound ([`misdirected`]) it allows, and refine into the children when not.
 
+use super::cluster_near::{Cluster, NearFields, NEAR_FIELD};
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
 use glam::Vec3;
@@ -67,6 +70,8 @@ impl Node {
 pub struct FaceClusters {
     nodes: Vec<Node>,
     leaf: Vec<Option<u32>>,
+    /// The near-field part of the bound (`cluster_near.rs`), computed as shots ask.
+    near: NearFields,
 }
 
 /// A candidate merge, ordered so that the heap pops the narrowest cone, then the smallest extent,
@@ -114,6 +119,21 @@ pub struct Bound {
     /// The widest extent (scene units, on every axis) of a cluster carrying more than `power`:
     /// the ordinary shooter cell.
     pub fine_reach: f32,
+    /// The most of its shooting point's view other polygons close in front may take
+    /// (`cluster_near.rs`): [`NEAR_FIELD`].
+    pub near: f32,
+}
+
+impl Bound {
+    /// The bound for shots of a solve emitting `emitted_power`, with the solve's cut (`cut_above`,
+    /// a share of the emitted power) and fine reach (scene units).
+    pub fn new(cut_above: f32, emitted_power: f64, fine_reach: f32) -> Self {
+        Bound {
+            power: cut_above as f64 * emitted_power,
+            fine_reach,
+            near: NEAR_FIELD,
+        }
+    }
 }
 
 impl Bound {
@@ -143,6 +163,7 @@ impl FaceClusters {
         let mut clusters = FaceClusters {
             nodes: Vec::new(),
             leaf: vec![None; n],
+            near: NearFields::default(),
         };
         let reach = side as f32 * layout.patch_size;
         for (p, polygon) in scene.polygons.iter().enumerate() {
@@ -206,6 +227,7 @@ impl FaceClusters {
             }
             neighbours.push(around);
         }
+        clusters.near = NearFields::new(scene, reach, clusters.nodes.len());
         clusters
     }
 
@@ -325,6 +347,8 @@ impl FaceClusters {
         p: usize,
         power: impl Fn(usize) -> Option<f64>,
         bound: &Bound,
+        scene: &Scene,
+        layout: &PatchLayout,
     ) -> Option<(Vec<usize>, Vec3)> {
         let shooting = |node: u32| -> (Vec<usize>, f64) {
             let (mut members, mut sum) = (Vec::new(), 0.0);
@@ -336,7 +360,13 @@ impl FaceClusters {
             }
             (members, sum)
         };
-        let node = self.shooting_cluster(p, |id, node| bound.allows(node, shooting(id).1))?;
+        // The near field last: the costliest test, computed once per node when first asked.
+        // Flat clusters shoot as coplanar ones do (below): their near field does not matter.
+        let allows = |id: u32, node: &Node| {
+            bound.allows(node, shooting(id).1)
+                && (node.cone <= FLAT || self.near_field(id, scene, layout) <= bound.near)
+        };
+        let node = self.shooting_cluster(p, allows)?;
         let n = &self.nodes[node as usize];
         // A flat cluster's normals agree to a thousandth of a radian (`angle` reads 0 for
         // parallel ones): those shoot as before.
@@ -345,6 +375,19 @@ impl FaceClusters {
         }
         let (members, _) = shooting(node);
         (members.len() >= 2 && members.contains(&p)).then(|| (members, n.normal()))
+    }
+
+    /// Node `k`'s near-field factor (`cluster_near.rs`): how much of its shooting point's view
+    /// other polygons closer than its extent take.
+    pub fn near_field(&self, k: u32, scene: &Scene, layout: &PatchLayout) -> f32 {
+        let node = &self.nodes[k as usize];
+        let members = self.members(k);
+        let cluster = Cluster {
+            members: &members,
+            normal: node.normal(),
+            extent: (node.hi - node.lo).max_element(),
+        };
+        self.near.of(k, cluster, scene, layout)
     }
 
     /// Clusters of two or more polygons that were merged into nothing larger (the roots).
@@ -561,22 +604,27 @@ mod tests {
         let bound = Bound {
             power: 1.0,
             fine_reach: 4.0 * 0.2,
+            near: NEAR_FIELD,
         };
         // Each facet carries `w`: the larger the shot, the smaller the cluster the bound allows,
         // down to none (the facet shoots alone).
         let sizes: Vec<usize> = [1e-3, 1e-2, 0.05, 0.2, 10.0]
             .iter()
             .map(|&w| {
-                c.shot_of(p, |_| Some(w), &bound)
+                c.shot_of(p, |_| Some(w), &bound, &scene, &layout)
                     .map_or(1, |(m, _)| m.len())
             })
             .collect();
         assert!(sizes.windows(2).all(|s| s[1] <= s[0]), "{sizes:?}");
         assert!(sizes[0] >= 12 && sizes[4] == 1, "{sizes:?}");
         // The members that may not shoot now stay out; the rest still hold p.
-        let (all, normal) = c.shot_of(p, |_| Some(1e-3), &bound).unwrap();
+        let (all, normal) = c
+            .shot_of(p, |_| Some(1e-3), &bound, &scene, &layout)
+            .unwrap();
         let odd = |q: usize| q % 2 == 1 || q == p;
-        let (some, _) = c.shot_of(p, |q| odd(q).then_some(1e-3), &bound).unwrap();
+        let (some, _) = c
+            .shot_of(p, |q| odd(q).then_some(1e-3), &bound, &scene, &layout)
+            .unwrap();
         assert!(some.contains(&p) && some.iter().all(|&q| odd(q)) && some.len() < all.len());
         // Within the bound: what may go astray of the members' power along the mean normal.
         let node = c.shooting_cluster(p, |_, _| true).unwrap();
@@ -598,6 +646,78 @@ mod tests {
         let flat_layout = PatchLayout::new(&flat, Resolution::PatchSize(1.0));
         let f = FaceClusters::new(&flat, &flat_layout, 8, 20f32.to_radians());
         assert!(f.shooting_cluster(0, |_, _| true).is_some());
-        assert_eq!(f.shot_of(0, |_| Some(1e-3), &bound), None);
+        assert_eq!(
+            f.shot_of(0, |_| Some(1e-3), &bound, &flat, &flat_layout),
+            None
+        );
+    }
+
+    #[test]
+    fn a_cluster_with_a_surface_close_in_front_shoots_as_its_children() {
+        // A column alone: its side clusters see nothing near in front (the cap lies behind
+        // their planes).
+        let mut polygons = cylinder(48, 16, 0.125);
+        let alone = test_scene(polygons.clone());
+        let alone_layout = PatchLayout::new(&alone, Resolution::PatchSize(0.2));
+        let free = FaceClusters::new(&alone, &alone_layout, 8, 20f32.to_radians());
+        let inner = |c: &FaceClusters| {
+            (0..c.nodes().len() as u32)
+                .filter(|&k| c.nodes()[k as usize].children.is_some())
+                .collect::<Vec<u32>>()
+        };
+        let most = (inner(&free).into_iter())
+            .map(|k| free.near_field(k, &alone, &alone_layout))
+            .fold(0f32, f32::max);
+        assert!(most <= 0.05, "{most}");
+        // A wall 1 cm from its side at x = 1, facing the column: the clusters on that side see
+        // it; those facing away do not.
+        let mut wall: Vec<Vec3> = [(1.01, -1.0, -1.0), (1.01, -1.0, 3.0), (1.01, 3.0, 3.0)]
+            .iter()
+            .chain(&[(1.01, 3.0, -1.0)])
+            .map(|&(x, y, z)| Vec3::new(x, z, y))
+            .collect();
+        if Polygon::new(wall.clone(), 0, "wall".into())
+            .unwrap()
+            .normal
+            .x
+            > 0.0
+        {
+            wall.reverse();
+        }
+        polygons.push(Polygon::new(wall, 0, "wall".into()).unwrap());
+        let scene = test_scene(polygons);
+        let layout = PatchLayout::new(&scene, Resolution::PatchSize(0.2));
+        let c = FaceClusters::new(&scene, &layout, 8, 20f32.to_radians());
+        let facing = |k: u32| c.nodes()[k as usize].normal().x;
+        let (front, back): (Vec<u32>, Vec<u32>) =
+            inner(&c).into_iter().partition(|&k| facing(k) > 0.9);
+        assert!(!front.is_empty() && !back.is_empty());
+        let near = |k: u32| c.near_field(k, &scene, &layout);
+        assert!(front.iter().all(|&k| near(k) > NEAR_FIELD), "{front:?}");
+        assert!(back
+            .iter()
+            .filter(|&&k| facing(k) < 0.0)
+            .all(|&k| near(k) == 0.0));
+        // A cheap shot of a facet facing the wall shoots alone, or with a cluster that sees less;
+        // one facing away keeps the cluster it had without the wall.
+        let bound = Bound {
+            power: 1.0,
+            fine_reach: 4.0 * 0.2,
+            near: NEAR_FIELD,
+        };
+        let shot = |p: usize| c.shot_of(p, |_| Some(1e-3), &bound, &scene, &layout);
+        let p = (0..48 * 16)
+            .find(|&p| scene.polygons[p].normal.x > 0.99)
+            .unwrap();
+        if let Some((members, _)) = shot(p) {
+            let node = c.shooting_cluster(p, |_, n| bound.allows(n, 1e-3)).unwrap();
+            assert!(members.len() >= 2 && members.len() < c.members(node).len());
+        }
+        let away = (0..48 * 16)
+            .find(|&p| scene.polygons[p].normal.x < -0.99)
+            .unwrap();
+        let without = free.shot_of(away, |_| Some(1e-3), &bound, &alone, &alone_layout);
+        assert!(without.is_some());
+        assert_eq!(shot(away).map(|s| s.0), without.map(|s| s.0));
     }
 }

@@ -44,8 +44,14 @@ impl<'a> Solver<'a, GpuBackend<'a>> {
         layout: &'a PatchLayout,
         options: SolveOptions,
     ) -> Result<Self, SolveError> {
-        let backend = GpuBackend::new(ctx, scene, layout, options.clone())?;
-        Solver::start(scene, layout, options, backend)
+        // The reconstruction shader holds the near field's code only where face clusters shoot.
+        let hierarchy = super::clusters::face_clusters(scene, layout, &options);
+        let compiled = SolveOptions {
+            face_clusters: hierarchy.is_some(),
+            ..options.clone()
+        };
+        let backend = GpuBackend::new(ctx, scene, layout, compiled)?;
+        Solver::start(scene, layout, options, backend, hierarchy)
     }
 }
 

@@ -14,7 +14,9 @@
 //! beyond the paper that change the answer (`SolveOptions::overshoot`, `small_hemi_res`,
 //! `rotate_item_buffer`, `shooters_per_pass`).
 
+pub mod cluster_near;
 pub mod cluster_parts;
+pub mod cluster_shooter;
 pub mod clusters;
 pub mod cpu;
 pub mod engine;

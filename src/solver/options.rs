@@ -128,7 +128,8 @@ pub struct SolveOptions {
     /// Beyond the paper, for fewer shots on curved surfaces of many small faces: a small
     /// polygon shoots with the largest cluster of touching non-coplanar neighbours around it
     /// (normals within [`FACE_CONE_DEGREES`], bounds within `cluster_cell` patches) whose
-    /// misdirected power stays within `cut_above` of the emitted power (`face_clusters.rs`).
+    /// misdirected power stays within `cut_above` of the emitted power and whose shooting point
+    /// sees little of other polygons close in front (`face_clusters.rs`, `cluster_near.rs`).
     /// Needs `shooter_cell`, `cluster_cell` and `cut_above` (so never in the paper's mode), and
     /// only in scenes whose polygons average at most `clusters::AVERAGE_PATCHES` patches.
     pub face_clusters: bool,
@@ -202,6 +203,7 @@ impl SolveOptions {
             coarse_cell: COARSE_CELL,
             cluster_cell: CLUSTER_CELL,
             shot_triangles: SHOT_TRIANGLES,
+            face_clusters: true,
             ..Self::paper()
         }
     }

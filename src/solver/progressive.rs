@@ -19,7 +19,7 @@
 //! runs the loop and keeps the books ([`Ledger`]); `GpuSolver` and `CpuSolver` name the two.
 
 use super::cluster_parts::{self, Part};
-use super::clusters::{self, ClusterChoice, Clusters, Member};
+use super::clusters::{ClusterChoice, Clusters, Member};
 use super::face_clusters::FaceClusters;
 use super::find_max_energy::{self, EnergyTotals, Ledger, PassTimes, ShotBalance};
 use super::overshoot::Overshoot;
@@ -102,11 +102,13 @@ pub struct Solver<'a, B: Backend> {
 
 impl<'a, B: Backend> Solver<'a, B> {
     /// A solver on `backend`, whose lightmaps hold the emission, for the caller's `layout`.
+    /// `face_clusters`: the hierarchy the solve shoots from (`clusters::face_clusters`).
     pub(super) fn start(
         scene: &'a Scene,
         layout: &'a PatchLayout,
         options: SolveOptions,
         backend: B,
+        face_clusters: Option<FaceClusters>,
     ) -> Result<Self, SolveError> {
         let ledger = Ledger::new(scene, backend.unshot(), layout.patch_size)?;
         let overshoot = options
@@ -114,19 +116,6 @@ impl<'a, B: Backend> Solver<'a, B> {
             .then(|| Overshoot::new(scene, ledger.patches()));
         let clusters = Clusters::new(scene, layout, options.shooter_cell, options.cluster_cell);
         let max_cells = shooters::max_cells(scene, options.shot_triangles);
-        // Without cells, coarse clusters or a bound (the paper's mode) there is nothing to
-        // bound a face cluster's shot by; scenes of large polygons (the Table 1 rooms: their
-        // small non-coplanar ones would shoot 1–3 % fewer shots) shoot as without, as they do
-        // without coplanar clusters.
-        let face_clusters = (options.face_clusters
-            && options.shooter_cell > 0
-            && options.cluster_cell > 0
-            && options.cut_above > 0.0
-            && clusters::small_polygons(scene, layout))
-        .then(|| {
-            let cone = super::FACE_CONE_DEGREES.to_radians();
-            FaceClusters::new(scene, layout, options.cluster_cell, cone)
-        });
         Ok(Solver {
             scene,
             layout,

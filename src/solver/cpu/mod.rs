@@ -47,7 +47,8 @@ impl<'a> Solver<'a, CpuBackend<'a>> {
         threads: usize,
     ) -> Result<Self, SolveError> {
         let backend = CpuBackend::new(scene, layout, &options, threads)?;
-        Solver::start(scene, layout, options, backend)
+        let hierarchy = super::clusters::face_clusters(scene, layout, &options);
+        Solver::start(scene, layout, options, backend, hierarchy)
     }
 }
 
