@@ -53,8 +53,9 @@ uniform float ShootArea[SHOOTERS]; // area of that outline
 // on, ShootPartRows[k].y of them (0 for every other shooter). A row: texel 0 the member's share
 // of the shooter's energy over its outline's area (RGB) and its corner count, texel 1 its
 // normal, then its corners.
-// FACE_CLUSTERS (defined by the host): 1 when the solve shoots from face clusters; without, none
-// of this is compiled.
+// FACE_CLUSTERS (defined by the host): 1 in the variants drawn for passes with a face cluster's
+// shooter (`reconstruction::Variants`); other passes compile none of this, which costs llvmpipe
+// even where it runs no part.
 #ifndef FACE_CLUSTERS
 #define FACE_CLUSTERS 0
 #endif

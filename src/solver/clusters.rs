@@ -352,9 +352,9 @@ impl ClusterChoice<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec3;
     use crate::patches::{PatchLayout, Resolution};
     use crate::scene::{Polygon, Scene};
+    use glam::Vec3;
 
     /// A floor of `n` × `n` quads of 1×1 (each its own polygon, as faces of different
     /// materials stay after merging), and a light above it.

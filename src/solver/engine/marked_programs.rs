@@ -38,10 +38,10 @@ pub(crate) struct ForSlots {
 impl ForSlots {
     /// The programs that shade the squares needing the shooter clipped to the receiver's plane
     /// and those that do not, after a marking pass; unrolled for quadrilateral shooters if
-    /// `quad`.
-    pub fn shading(&self, quad: bool) -> (&Program, &Program) {
+    /// `quad`, with the near field if `near` (`Variants::get`).
+    pub fn shading(&self, quad: bool, near: bool) -> (&Program, &Program) {
         let above = self.above.as_ref().unwrap_or(&self.marked);
-        (self.marked.get(quad), above.get(quad))
+        (self.marked.get(quad, near), above.get(quad, near))
     }
 }
 
@@ -51,7 +51,7 @@ pub(crate) struct OneShooter {
     /// The marking pass (`MARK`).
     pub marking: Program,
     /// The pass proper after it (`MARKED`), for any corner count and for quadrilaterals.
-    pub marked: [Program; 2],
+    pub marked: Variants,
 }
 
 /// The most shooters a few-shooter program serves (`Tuning::few_shooter_programs`). On Lost
@@ -65,7 +65,7 @@ pub(crate) const FEW: u32 = 4;
 /// proper after the marking pass, clipping the shooters to each receiver's plane, for any corner
 /// count and for quadrilaterals.
 pub(crate) struct FewShooters {
-    pub marked: [Program; 2],
+    pub marked: Variants,
 }
 
 impl MarkedPrograms {
@@ -79,16 +79,18 @@ impl MarkedPrograms {
         let gl = &ctx.gl;
         let compile = |source: Source| compile(gl, source);
         let shooters = options.shooters_per_pass.max(1);
-        let frag = || fragment(shooters, compiled, options);
+        let frag = || fragment(shooters, compiled);
+        // The near field's variants only where face clusters shoot (`Variants`).
+        let near = options.face_clusters;
         let marked = || frag().define("MARKED", 1);
         let above = || marked().define("SHOOTER_ABOVE", 1);
         let tuning: &Tuning = &options.tuning;
         let quads = tuning.unroll_quads;
         let for_slots = if tuning.marking_pass {
             Some(ForSlots {
-                marked: Variants::new(&compile, &marked, quads)?,
+                marked: Variants::new(&compile, &marked, quads, near)?,
                 above: if tuning.skip_needless_clipping() {
-                    Some(Variants::new(&compile, &above, quads)?)
+                    Some(Variants::new(&compile, &above, quads, near)?)
                 } else {
                     None
                 },
@@ -98,10 +100,10 @@ impl MarkedPrograms {
             None
         };
         let one = if tuning.walk_receivers() && tuning.marking_pass && shooters > 1 {
-            let marked = || fragment(1, compiled, options).define("MARKED", 1);
+            let marked = || fragment(1, compiled).define("MARKED", 1);
             Some(OneShooter {
-                marking: compile(fragment(1, compiled, options).define("MARK", 1))?,
-                marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
+                marking: compile(fragment(1, compiled).define("MARK", 1))?,
+                marked: Variants::new(&compile, &marked, true, near)?,
             })
         } else {
             None
@@ -109,9 +111,9 @@ impl MarkedPrograms {
         let few = if one.is_some() && tuning.few_shooter_programs() {
             (2..shooters.min(FEW + 1))
                 .map(|k| {
-                    let marked = || fragment(k, compiled, options).define("MARKED", 1);
+                    let marked = || fragment(k, compiled).define("MARKED", 1);
                     Ok(FewShooters {
-                        marked: [compile(marked())?, compile(marked().define("CORNERS", 4))?],
+                        marked: Variants::new(&compile, &marked, true, near)?,
                     })
                 })
                 .collect::<Result<_, GlError>>()?

@@ -14,7 +14,7 @@ use super::seen_receivers::Reach;
 use crate::gl::{GlContext, GlError, Renderbuffer};
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
-use crate::solver::reconstruction::{AtlasDraw, Pass, Uniforms, UNITS};
+use crate::solver::reconstruction::{has_parts, AtlasDraw, Pass, Uniforms, UNITS};
 use crate::solver::visibility::VisibilityPass;
 use crate::solver::{Shooter, SolveOptions, Tuning};
 use glow::HasContext;
@@ -296,7 +296,8 @@ impl MarkedSquares {
             }
             let quad = self.tuning.unroll_quads && shooter.corner_count == 4;
             visibility.slot_texture(k).bind(UNITS.item_buffers[0]);
-            own.set(&one.marked[quad as usize]);
+            let near = shooter.parts.count > 0;
+            own.set(one.marked.get(quad, near));
             self.squares.draw(first, count);
         }
         visibility.slot_texture(0).bind(UNITS.item_buffers[0]);
@@ -314,13 +315,14 @@ impl MarkedSquares {
             let programs = &self.programs.few[members.len() - 2];
             let chosen: Vec<Shooter> = members.iter().map(|&k| shooters[k]).collect();
             let unroll = self.tuning.unroll_quads;
-            let quad = (unroll && chosen.iter().all(|s| s.corner_count == 4)) as usize;
+            let quad = unroll && chosen.iter().all(|s| s.corner_count == 4);
             for (slot, &k) in members.iter().enumerate() {
                 visibility.slot_texture(k).bind(UNITS.item_buffers[slot]);
             }
             let (first, count) = self.squares.run(base + j);
             if count > 0 {
-                Uniforms::new(&chosen, pass.options, pass.planes).set(&programs.marked[quad]);
+                let program = programs.marked.get(quad, has_parts(&chosen));
+                Uniforms::new(&chosen, pass.options, pass.planes).set(program);
                 self.squares.draw(first, count);
             }
         }
@@ -371,9 +373,9 @@ impl AtlasDraw for MarkedSquares {
         if tuning.marking_pass {
             self.mark(ctx, pass.uniforms, each.as_deref(), visibility);
         }
-        let paper = pass.programs.paper.get(pass.quad);
+        let paper = pass.programs.paper.get(pass.quad, pass.near);
         let (clipping, not_clipping) = match (&self.programs.for_slots, tuning.marking_pass) {
-            (Some(marked), true) => marked.shading(pass.quad),
+            (Some(marked), true) => marked.shading(pass.quad, pass.near),
             _ => (paper, paper),
         };
         let [clipped, above] = [self.squares.run(0), self.squares.run(1)];

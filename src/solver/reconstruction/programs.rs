@@ -82,13 +82,11 @@ pub(crate) fn compile(gl: &crate::gl::Gl, source: Source) -> Result<Program, GlE
     Program::new(gl, glsl!("atlas.vert"), source, squares_in, OUTPUTS)
 }
 
-/// `glsl/reconstruct.frag` for `shooters` shooters, with `compiled` choices as constants, and
-/// the face clusters' near field (`FACE_CLUSTERS`) when `options` shoot from face clusters: a
-/// solve without them runs none of its code.
-pub(crate) fn fragment(shooters: u32, compiled: Option<Choices>, options: &SolveOptions) -> Source {
+/// `glsl/reconstruct.frag` for `shooters` shooters, with `compiled` choices as constants
+/// (without the face clusters' near field: [`Variants`] adds it).
+pub(crate) fn fragment(shooters: u32, compiled: Option<Choices>) -> Source {
     let source = glsl!("reconstruct.frag")
         .define("SHOOTERS", shooters as i32)
-        .define("FACE_CLUSTERS", options.face_clusters as i32)
         .append(&per_shooter_functions(shooters as usize));
     match &compiled {
         Some(choices) => choices.define(source),
@@ -113,9 +111,9 @@ impl Programs {
             )));
         }
         let compile = |source: Source| compile(gl, source);
-        let paper = || fragment(shooters, compiled, options);
+        let paper = || fragment(shooters, compiled);
         Ok(Programs {
-            paper: Variants::new(&compile, &paper, variants.quads)?,
+            paper: Variants::new(&compile, &paper, variants.quads, options.face_clusters)?,
             shooters: shooters as usize,
             compiled,
             emission: Program::new(
