@@ -26,29 +26,37 @@ use std::sync::OnceLock;
 pub const NEAR_FIELD: f32 = 0.5;
 
 /// What the near field of a cluster depends on.
-#[derive(Clone, Copy, Debug)]
-pub struct Cluster<'a> {
+#[derive(Clone, Debug)]
+pub struct Cluster {
     /// Its polygons, ascending.
-    pub members: &'a [usize],
+    pub members: Vec<usize>,
     /// Its mean normal.
     pub normal: Vec3,
     /// Its bounds' largest side.
     pub extent: f32,
 }
 
-/// The polygons by grid cell, and each cluster's near-field factor once asked for.
+/// Each cluster's near-field factor once asked for, and the index they are found with.
 #[derive(Clone, Debug, Default)]
 pub struct NearFields {
     /// The grid's cell side (scene units): the clusters' ordinary extent.
     cell: f32,
+    /// The polygons filed by grid cell, built at the first question (a hierarchy whose shots
+    /// never ask needs none).
+    index: OnceLock<Index>,
+    /// Per node, its factor ([`NearFields::of`]) once computed.
+    factors: Vec<OnceLock<f32>>,
+}
+
+/// The scene's polygons by grid cell.
+#[derive(Clone, Debug, Default)]
+struct Index {
     /// Each polygon's bounds.
     bounds: Vec<(Vec3, Vec3)>,
     /// The polygons whose bounds reach into each cell.
     grid: HashMap<[i64; 3], Vec<u32>>,
     /// Polygons whose bounds span more than [`MOST_CELLS`] cells: every query looks at them.
     large: Vec<u32>,
-    /// Per node, its factor ([`NearFields::of`]) once computed.
-    factors: Vec<OnceLock<f32>>,
 }
 
 impl PartialEq for NearFields {
@@ -59,34 +67,11 @@ impl PartialEq for NearFields {
 }
 
 impl NearFields {
-    /// The index over `scene`'s polygons, in cells `cell` wide, for `nodes` clusters.
-    pub fn new(scene: &Scene, cell: f32, nodes: usize) -> Self {
-        let cell = cell.max(f32::MIN_POSITIVE);
-        let bounds: Vec<(Vec3, Vec3)> = (scene.polygons.iter())
-            .map(|q| {
-                (q.vertices.iter()).fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |b, &v| {
-                    (b.0.min(v), b.1.max(v))
-                })
-            })
-            .collect();
-        let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
-        let mut large = Vec::new();
-        for (q, &(lo, hi)) in bounds.iter().enumerate() {
-            let (a, b) = (key(lo, cell), key(hi, cell));
-            let span: i64 = (0..3).map(|i| b[i] - a[i] + 1).product();
-            if span > MOST_CELLS {
-                large.push(q as u32);
-                continue;
-            }
-            for key in cells(a, b) {
-                grid.entry(key).or_default().push(q as u32);
-            }
-        }
+    /// For `nodes` clusters, finding polygons in cells `cell` wide.
+    pub fn new(cell: f32, nodes: usize) -> Self {
         NearFields {
-            cell,
-            bounds,
-            grid,
-            large,
+            cell: cell.max(f32::MIN_POSITIVE),
+            index: OnceLock::new(),
             factors: (0..nodes).map(|_| OnceLock::new()).collect(),
         }
     }
@@ -94,9 +79,16 @@ impl NearFields {
     /// Cluster `k`'s near-field factor: the sum of the unoccluded form factors from its
     /// shooting point, along its mean normal, to every polygon outside it whose bounds come
     /// nearer to the point than its extent (0 for a single polygon). The point is the one
-    /// `cluster_shooter` takes for members of equal radiance.
-    pub fn of(&self, k: u32, cluster: Cluster, scene: &Scene, layout: &PatchLayout) -> f32 {
-        *self.factors[k as usize].get_or_init(|| self.compute(cluster, scene, layout))
+    /// `cluster_shooter` takes for members of equal radiance. `cluster` describes it, asked
+    /// only the first time.
+    pub fn of(
+        &self,
+        k: u32,
+        cluster: impl FnOnce() -> Cluster,
+        scene: &Scene,
+        layout: &PatchLayout,
+    ) -> f32 {
+        *self.factors[k as usize].get_or_init(|| self.compute(cluster(), scene, layout))
     }
 
     fn compute(&self, cluster: Cluster, scene: &Scene, layout: &PatchLayout) -> f32 {
@@ -117,16 +109,17 @@ impl NearFields {
         };
         let at = shooter.position;
         let slack = scene.plane_slack();
-        let mut seen: Vec<u32> = self.large.clone();
+        let index = self.index.get_or_init(|| Index::new(scene, self.cell));
+        let mut seen: Vec<u32> = index.large.clone();
         for key in cells(key(at - reach, self.cell), key(at + reach, self.cell)) {
-            seen.extend(self.grid.get(&key).map_or(&[][..], |v| &v[..]));
+            seen.extend(index.grid.get(&key).map_or(&[][..], |v| &v[..]));
         }
         seen.sort_unstable();
         seen.dedup();
         (seen.into_iter().map(|q| q as usize))
             .filter(|q| members.binary_search(q).is_err())
             .filter(|&q| {
-                let (lo, hi) = self.bounds[q];
+                let (lo, hi) = index.bounds[q];
                 (lo - at).max(at - hi).max(Vec3::ZERO).length() < reach
             })
             .map(|q| {
@@ -134,6 +127,37 @@ impl NearFields {
                 super::form_factor::polygon(at, normal, &p.vertices, p.normal, slack)
             })
             .sum()
+    }
+}
+
+impl Index {
+    /// `scene`'s polygons filed in cells `cell` wide.
+    fn new(scene: &Scene, cell: f32) -> Self {
+        let bounds: Vec<(Vec3, Vec3)> = (scene.polygons.iter())
+            .map(|q| {
+                (q.vertices.iter()).fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |b, &v| {
+                    (b.0.min(v), b.1.max(v))
+                })
+            })
+            .collect();
+        let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+        let mut large = Vec::new();
+        for (q, &(lo, hi)) in bounds.iter().enumerate() {
+            let (a, b) = (key(lo, cell), key(hi, cell));
+            let span: i64 = (0..3).map(|i| b[i] - a[i] + 1).product();
+            if span > MOST_CELLS {
+                large.push(q as u32);
+                continue;
+            }
+            for key in cells(a, b) {
+                grid.entry(key).or_default().push(q as u32);
+            }
+        }
+        Index {
+            bounds,
+            grid,
+            large,
+        }
     }
 }
 

@@ -134,9 +134,7 @@ impl Bound {
             near: NEAR_FIELD,
         }
     }
-}
 
-impl Bound {
     /// Whether `node` may shoot as one carrying `power` (its shooting members' unshot power):
     /// also, no more members than a shot's near field sums ([`MAX_PARTS`]).
     pub fn allows(&self, node: &Node, power: f64) -> bool {
@@ -227,7 +225,7 @@ impl FaceClusters {
             }
             neighbours.push(around);
         }
-        clusters.near = NearFields::new(scene, reach, clusters.nodes.len());
+        clusters.near = NearFields::new(reach, clusters.nodes.len());
         clusters
     }
 
@@ -381,9 +379,8 @@ impl FaceClusters {
     /// other polygons closer than its extent take.
     pub fn near_field(&self, k: u32, scene: &Scene, layout: &PatchLayout) -> f32 {
         let node = &self.nodes[k as usize];
-        let members = self.members(k);
-        let cluster = Cluster {
-            members: &members,
+        let cluster = || Cluster {
+            members: self.members(k),
             normal: node.normal(),
             extent: (node.hi - node.lo).max_element(),
         };
