@@ -13,6 +13,7 @@
 //! room's 163,375 clusters would take 40 s all at once; a solve asks for a few thousand).
 
 use super::cluster_shooter::cluster_shooter;
+use crate::geometry::bounds;
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
 use glam::Vec3;
@@ -134,11 +135,7 @@ impl Index {
     /// `scene`'s polygons filed in cells `cell` wide.
     fn new(scene: &Scene, cell: f32) -> Self {
         let bounds: Vec<(Vec3, Vec3)> = (scene.polygons.iter())
-            .map(|q| {
-                (q.vertices.iter()).fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |b, &v| {
-                    (b.0.min(v), b.1.max(v))
-                })
-            })
+            .map(|q| bounds(&q.vertices).expect("a polygon has corners"))
             .collect();
         let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
         let mut large = Vec::new();

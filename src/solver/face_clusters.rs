@@ -26,6 +26,7 @@
 //! whose error bound ([`misdirected`]) it allows, and refine into the children when not.
 
 use super::cluster_near::{Cluster, NearFields, NEAR_FIELD};
+use crate::geometry::bounds;
 use crate::patches::PatchLayout;
 use crate::scene::Scene;
 use glam::Vec3;
@@ -169,10 +170,7 @@ impl FaceClusters {
             if count == 0 || count > side || scene.material(polygon).is_emitter() {
                 continue;
             }
-            let (lo, hi) = (polygon.vertices.iter()).fold(
-                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-                |(lo, hi), &v| (lo.min(v), hi.max(v)),
-            );
+            let (lo, hi) = bounds(&polygon.vertices).expect("a polygon has corners");
             clusters.leaf[p] = Some(clusters.nodes.len() as u32);
             clusters.nodes.push(Node {
                 parent: None,
